@@ -1,0 +1,1 @@
+"""sklearn_hardness.active (work in progress)."""

@@ -1,0 +1,1 @@
+"""sklearn_hardness.datasets (work in progress)."""

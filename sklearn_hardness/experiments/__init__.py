@@ -1,0 +1,1 @@
+"""sklearn_hardness.experiments (work in progress)."""

@@ -1,0 +1,1 @@
+"""sklearn_hardness.features (work in progress)."""

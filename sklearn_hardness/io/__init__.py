@@ -1,0 +1,9 @@
+"""Reading and writing tactile press videos.
+
+Videos are ``(T, H, W, 3)`` ``uint8`` RGB arrays. Files are decoded with
+OpenCV; a folder of numbered images is read as one video.
+"""
+
+from ._video import VIDEO_EXTENSIONS, IMAGE_EXTENSIONS, read_video, write_video
+
+__all__ = ["read_video", "write_video", "VIDEO_EXTENSIONS", "IMAGE_EXTENSIONS"]

@@ -1,0 +1,1 @@
+"""sklearn_hardness.metrics (work in progress)."""

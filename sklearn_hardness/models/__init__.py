@@ -1,0 +1,1 @@
+"""sklearn_hardness.models (work in progress)."""

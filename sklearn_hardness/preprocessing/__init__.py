@@ -1,0 +1,1 @@
+"""sklearn_hardness.preprocessing (work in progress)."""
