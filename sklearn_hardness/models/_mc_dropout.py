@@ -472,6 +472,15 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
         plain_dropout = any(
             isinstance(m, torch.nn.modules.dropout._DropoutNd) for m in module.modules()
         )
+        stochastic = any(
+            isinstance(m, (MCDropout, torch.nn.modules.dropout._DropoutNd)) and m.p > 0
+            for m in module.modules()
+        )
+        if not stochastic:
+            # No active dropout: every pass equals the deterministic one; compute it once
+            # (this also makes the samples bit-identical, so their variance is exactly 0).
+            out[:] = self.predict_proba(X)[np.newaxis]
+            return out
         flags = [(m, m.training) for m in module.modules()]
         try:
             module.eval()
