@@ -97,6 +97,17 @@ def _check_dropout(p):
     return float(p)
 
 
+def softmax(logits):
+    """Softmax over the last axis in float32 (or wider), numerically stable.
+
+    Same values as :func:`torch.softmax`, but several times faster on CPU for
+    the few classes (< 32) of these nets, which matters for MC sampling.
+    """
+    x = logits if logits.dtype in (torch.float32, torch.float64) else logits.float()
+    e = (x - x.amax(dim=-1, keepdim=True)).exp_()
+    return e.div_(e.sum(dim=-1, keepdim=True))
+
+
 def resolve_device(device):
     """Map ``"auto"`` to ``"cuda"`` when a GPU is available, else ``"cpu"``."""
     if isinstance(device, str) and device == "auto":
@@ -226,6 +237,15 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
                 module = module_cls(**kwargs)
         self.module_ = module
         return self
+
+    def _get_predict_nonlinearity(self):
+        # skorch's "auto" gives torch.softmax for CrossEntropyLoss; ours gives the same
+        # values (float32 at least) faster for few classes.
+        if isinstance(self.predict_nonlinearity, str) and self.predict_nonlinearity == "auto":
+            self.check_is_fitted()
+            if isinstance(self.criterion_, torch.nn.CrossEntropyLoss):
+                return softmax
+        return super()._get_predict_nonlinearity()
 
     def get_iterator(self, dataset, training=False):
         """Like skorch's, but seeded shuffling when ``random_state`` is set."""
@@ -506,7 +526,7 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
                     for j0 in range(0, n_samples, r):
                         rr = min(r, n_samples - j0)
                         logits = module(xb, n_replicas=rr)
-                        proba = nonlin(logits).float().reshape(rr, len(xb), n_classes)
+                        proba = nonlin(logits).reshape(rr, len(xb), n_classes)
                         out[j0 : j0 + rr, i0 : i0 + len(xb)] = proba.cpu().numpy()
         finally:
             for m, flag in flags:
