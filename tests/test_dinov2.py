@@ -286,3 +286,14 @@ def test_features_computed_once_per_video_in_cached_pipeline(X, tmp_path, model_
     pipe.set_params(clf__C=0.5).fit(X, y)  # refitting the head reuses the cached features
     assert sum(n_embedded) == n_after_predict
     assert proba.shape == (3, 2)
+
+
+def test_half_precision_and_auto_device(X, backbone):
+    ref = DINOv2Features(model=backbone, image_size=28).fit_transform(X)
+    dino = DINOv2Features(model=backbone, image_size=28, dtype="bfloat16", device="auto").fit(X)
+    assert dino.device_.type == ("cuda" if torch.cuda.is_available() else "cpu")
+    assert next(dino.model_.parameters()).dtype == torch.bfloat16
+    out = dino.transform(X)
+    assert out.dtype == np.float32
+    np.testing.assert_allclose(out, ref, atol=0.1 * np.abs(ref).max())
+    assert next(backbone.parameters()).dtype == torch.float32  # the given module is untouched
