@@ -45,9 +45,9 @@ def _run_select(args):
             f"{sel.contact_peak_[i]:>4}  {np.asarray(idx).tolist()}"
         )
     if args.plot:
-        from .preprocessing import plot_intensity_curves
+        from .preprocessing import plot_contact_selection
 
-        fig = plot_intensity_curves(sel, labels=[data.target_names[t] for t in data.target])
+        fig = plot_contact_selection(sel, labels=[data.target_names[t] for t in data.target])
         fig.savefig(args.plot, dpi=120)
         print(f"wrote {args.plot}")
     return 0
