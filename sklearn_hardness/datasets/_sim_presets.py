@@ -314,6 +314,8 @@ def resolve_params(preset, overrides):
         out[name] = _check_param(name, params[name])
     if preset == "shore9" and np.any(out["hardness"] >= 100):
         raise ValueError(f"Shore 00 hardness must lie in (0, 100), got {out['hardness']}.")
+    # Classes are ordered by increasing hardness value (as a manifest's numeric labels sort).
+    out["hardness"] = np.sort(out["hardness"])
     if len(np.unique(out["hardness"])) != len(out["hardness"]):
         raise ValueError(f"hardness values must be distinct (one per object), got {out['hardness']}.")
     if out["marker_radius"] * 2 >= out["marker_spacing"]:
