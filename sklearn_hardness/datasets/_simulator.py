@@ -299,8 +299,8 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_si
     --------
     >>> from sklearn_hardness.datasets import make_presses
     >>> data = make_presses("silicone5", n_per_class=2, image_size=(48, 64), random_state=0)
-    >>> len(data.videos), data.target_names[0], data.hardness_unit
-    (10, '0.44', 'mm/N')
+    >>> len(data.videos), data.target_names.tolist()[:2], data.hardness_unit
+    (10, ['0.44', '0.68'], 'mm/N')
     >>> video = data.videos[0]
     >>> video.shape[1:], video.dtype, len(data.force[0]) == len(video)
     ((48, 64, 3), dtype('uint8'), True)
