@@ -91,7 +91,7 @@ class PressOracle:
         key = label.item() if isinstance(label, np.generic) else label
         if key not in self._members:
             raise ValueError(
-                f"unknown reference object {label!r}; the pool has {self.classes_.tolist()}."
+                f"unknown reference object {key!r}; the pool has {self.classes_.tolist()}."
             )
         return key
 
