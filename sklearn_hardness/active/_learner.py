@@ -119,8 +119,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         :class:`~sklearn.pipeline.Pipeline` ending in one. It is cloned in
         :meth:`fit`; the trained copy is ``estimator_``. If the final
         estimator is a skorch net it is trained with
-        ``fit(X, y, epochs=initial_epochs)`` and then warm-started with
-        ``partial_fit(X, y, epochs=epochs_per_query)``. Any other final
+        ``partial_fit(X, y, classes=classes_, epochs=...)``: the first call
+        initialises the (cloned, untrained) net, later calls continue from
+        its current weights and optimizer state (warm start). Any other final
         estimator is refit from scratch on each training set (the epoch
         counts are then unused). For a Pipeline, the steps before the last
         are fit once, on the initial presses, and their output for every
@@ -274,14 +275,13 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             torch.manual_seed(seed)
             yield
 
-    def _train(self, Xt, y, epochs, *, first):
+    def _train(self, Xt, y, epochs):
         final = self._final()
         with self._seeded_torch():
             if _is_skorch_net(final):
-                if first:
-                    final.fit(Xt, y, epochs=epochs)
-                else:
-                    final.partial_fit(Xt, y, epochs=epochs)
+                # the clone is uninitialised, so the first partial_fit initialises
+                # it; later calls continue (module, optimizer state, history)
+                final.partial_fit(Xt, y, classes=self.classes_, epochs=epochs)
             else:
                 final.fit(Xt, y)
         return self._last_train_loss()
@@ -339,7 +339,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             raise ValueError(
                 f"classes {missing.tolist()} are missing from the initial training "
                 "set: every reference object needs initial presses (s0 > 0) before "
-                "active sampling can choose between them."
+                "active sampling can choose between them. (Without classes=..., "
+                "integer labels are taken as class indices 0 .. n_classes - 1; pass "
+                "classes=[...] to declare the labels explicitly.)"
             )
         return classes
 
@@ -391,7 +393,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             Xt = self.estimator_[:-1].fit_transform(X, y)
         else:
             Xt = X
-        loss = self._train(Xt, y, initial_epochs, first=True)
+        loss = self._train(Xt, y, initial_epochs)
         self.reservoir_X_ = Xt
         self.reservoir_y_ = y.copy()
         self.n_iterations_ = 0
@@ -546,7 +548,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             y_train = self.reservoir_y_[subset]
         else:
             X_train, y_train = self.reservoir_X_, self.reservoir_y_
-        loss = self._train(X_train, y_train, self.epochs_per_query, first=False)
+        loss = self._train(X_train, y_train, self.epochs_per_query)
         self.n_iterations_ += 1
         self.history_.append(
             {
