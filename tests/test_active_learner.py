@@ -381,3 +381,16 @@ def test_bad_fit_input(data):
         ActiveLearner(make_net()).fit(X0, y0[:-1])
     with pytest.raises(ValueError, match="X is empty"):
         ActiveLearner(make_net()).fit(X0[:0], y0[:0])
+
+
+def test_estimator_classes_must_match(data):
+    X0, y0, _, _, _ = data
+
+    class Shifted(MCDropoutNet):
+        @property
+        def classes_(self):
+            return np.array([1, 2, 3])
+
+    net = Shifted(**make_net().get_params())
+    with pytest.raises(ValueError, match=r"classes_ \[1, 2, 3\] differ from the learner's classes \[0, 1, 2\]"):
+        ActiveLearner(net, initial_epochs=1).fit(X0, y0)

@@ -394,6 +394,16 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         else:
             Xt = X
         loss = self._train(Xt, y, initial_epochs)
+        final_classes = getattr(self._final(), "classes_", None)
+        if final_classes is not None and not (
+            len(final_classes) == len(self.classes_)
+            and np.array_equal(np.asarray(final_classes), self.classes_)
+        ):
+            raise ValueError(
+                f"the trained estimator's classes_ {np.asarray(final_classes).tolist()} "
+                f"differ from the learner's classes {self.classes_.tolist()}; pass the "
+                "same classes=[...] to both."
+            )
         self.reservoir_X_ = Xt
         self.reservoir_y_ = y.copy()
         self.n_iterations_ = 0
