@@ -34,20 +34,20 @@ def _run_select(args):
 
     data = load_press_videos(args.manifest)
     threshold = args.threshold if args.threshold == "auto" else float(args.threshold)
-    sel = ContactFrameSelector(n_between=args.n_between, threshold=threshold, on_no_contact="fallback")
-    sel.fit(data.videos)
-    sel.transform(data.videos)
+    selector = ContactFrameSelector(n_between=args.n_between, threshold=threshold, on_no_contact="fallback")
+    selection = selector.select(data.videos)
     print(f"{'video':>5}  {'label':<12} {'frames':>6}  {'start':>5}  {'peak':>4}  selected")
-    for i, idx in enumerate(sel.selected_indices_):
-        name = data.target_names[data.target[i]]
+    for i, idx in enumerate(selection.indices):
+        flag = "" if selection.contact_found[i] else "  (no contact: fallback)"
         print(
-            f"{i:>5}  {name:<12} {len(sel.intensity_curves_[i]):>6}  {sel.contact_start_[i]:>5}  "
-            f"{sel.contact_peak_[i]:>4}  {np.asarray(idx).tolist()}"
+            f"{i:>5}  {data.target_names[data.target[i]]:<12} {len(selection.curves[i]):>6}  "
+            f"{selection.contact_start[i]:>5}  {selection.contact_peak[i]:>4}  {np.asarray(idx).tolist()}{flag}"
         )
+    print(f"contact found in {selection.contact_found.sum()} of {len(selection.indices)} videos")
     if args.plot:
-        from .preprocessing import plot_intensity_curves
+        from .preprocessing import plot_contact_selection
 
-        fig = plot_intensity_curves(sel, labels=[data.target_names[t] for t in data.target])
+        fig = plot_contact_selection(selection, labels=[data.target_names[t] for t in data.target])
         fig.savefig(args.plot, dpi=120)
         print(f"wrote {args.plot}")
     return 0

@@ -1,1 +1,6 @@
-"""sklearn_hardness.datasets (work in progress)."""
+"""Press-video datasets: real recordings from a manifest and the built-in simulator."""
+
+from ._lazy import LazyVideoSequence
+from ._manifest import load_press_videos
+
+__all__ = ["LazyVideoSequence", "load_press_videos"]
