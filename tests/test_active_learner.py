@@ -18,7 +18,7 @@ from sklearn_hardness.active import (
 from sklearn_hardness.active._learner import _concat_rows
 from sklearn_hardness.metrics import hardness_mae
 
-from _active_net import MCDropoutNet, make_blobs, make_net
+from ._active_net import MCDropoutNet, make_blobs, make_net
 
 
 class CountingScaler(TransformerMixin, BaseEstimator):
@@ -258,6 +258,28 @@ def test_concat_rows_kinds():
     assert isinstance(out, list) and len(out) == 3
     with pytest.raises(ValueError, match="per sample"):
         _concat_rows(a, np.ones((1, 4)))
+    import scipy.sparse as sp
+
+    assert _concat_rows(sp.csr_matrix(a), sp.csr_matrix(b)).shape == (3, 3)
+
+
+def test_concat_rows_keeps_lazy_videos_lazy():
+    from sklearn_hardness.datasets import LazyVideoSequence
+
+    loaded = []
+
+    def loader(k):
+        loaded.append(k)
+        return np.full((2 + k, 4, 4, 3), k, np.uint8)  # ragged lengths
+
+    videos = LazyVideoSequence(loader, range(6))
+    out = _concat_rows(videos[[0, 1]], videos[[4]])
+    assert isinstance(out, LazyVideoSequence) and loaded == []
+    assert [int(v[0, 0, 0, 0]) for v in out] == [0, 1, 4]
+    other = LazyVideoSequence(loader, [5])  # a different sequence object, same loader
+    assert isinstance(_concat_rows(videos[[0]], other), LazyVideoSequence)
+    mixed = _concat_rows(videos[[0]], [np.zeros((3, 4, 4, 3), np.uint8)])
+    assert isinstance(mixed, list) and len(mixed) == 2
 
 
 class ForestMC(BaseEstimator):

@@ -48,13 +48,19 @@ def _concat_rows(a, b):
         import torch
 
         return torch.cat([a, b], dim=0)
-    if hasattr(a, "shape") and hasattr(b, "shape"):  # e.g. sparse matrices
-        import scipy.sparse as sp
+    import scipy.sparse as sp
 
-        if sp.issparse(a) or sp.issparse(b):
-            return sp.vstack([a, b], format="csr")
-        return np.concatenate([np.asarray(a), np.asarray(b)], axis=0)
-    # sequences of videos (lists, lazy sequences): materialise the references
+    if sp.issparse(a) or sp.issparse(b):
+        return sp.vstack([a, b], format="csr")
+    from ..datasets import LazyVideoSequence
+
+    if (
+        isinstance(a, LazyVideoSequence)
+        and isinstance(b, LazyVideoSequence)
+        and a.loader is b.loader
+    ):  # stay lazy: only the keys are concatenated
+        return a._subset(list(a.keys) + list(b.keys))
+    # other sequences of videos: a list of the (loaded) items
     return [a[i] for i in range(len(a))] + [b[i] for i in range(len(b))]
 
 
