@@ -416,3 +416,14 @@ def test_estimator_classes_must_match(data):
     net = Shifted(**make_net().get_params())
     with pytest.raises(ValueError, match=r"classes_ \[1, 2, 3\] differ from the learner's classes \[0, 1, 2\]"):
         ActiveLearner(net, initial_epochs=1).fit(X0, y0)
+
+
+def test_strategy_called_on_the_learner_itself(data):
+    X0, y0, X_test, _, _ = data
+    learner = ActiveLearner(make_net(), initial_epochs=2, n_mc_samples=5).fit(X0, y0)
+    idx, scores = variance_sampling(learner, X_test, n_samples=6, random_state=2)
+    seed = int(np.random.RandomState(2).randint(np.iinfo(np.int32).max))
+    p = learner.predict_proba_samples(X_test, n_samples=6, random_state=seed)
+    assert p.shape == (6, len(X_test), 3)
+    np.testing.assert_allclose(scores, class_uncertainty(p, "variance"))
+    assert learner.predict_proba_samples(X_test).shape[0] == 5  # default n_mc_samples
