@@ -427,3 +427,17 @@ def test_strategy_called_on_the_learner_itself(data):
     assert p.shape == (6, len(X_test), 3)
     np.testing.assert_allclose(scores, class_uncertainty(p, "variance"))
     assert learner.predict_proba_samples(X_test).shape[0] == 5  # default n_mc_samples
+
+
+def test_pickle_round_trip_drops_feature_cache(data):
+    import pickle
+
+    X0, y0, X_test, y_test, _ = data
+    learner = ActiveLearner(make_pipeline(StandardScaler(), make_net()), initial_epochs=2,
+                            n_mc_samples=3, random_state=0).fit(X0, y0)
+    p = learner.predict_proba(X_test)
+    assert learner._feature_cache is not None
+    restored = pickle.loads(pickle.dumps(learner))
+    assert getattr(restored, "_feature_cache", None) is None
+    np.testing.assert_allclose(restored.predict_proba(X_test), p)
+    restored.teach(X0[:2], y0[:2])  # still usable

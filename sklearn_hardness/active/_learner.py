@@ -239,6 +239,12 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         self.cache_test_features = cache_test_features
         self.random_state = random_state
 
+    def __getstate__(self):
+        # the cached test features are a convenience, not state worth pickling
+        state = super().__getstate__()
+        state.pop("_feature_cache", None)
+        return state
+
     # ------------------------------------------------------------------ helpers
     def _final(self):
         est = self.estimator_
