@@ -1,1 +1,6 @@
-"""sklearn_hardness.preprocessing (work in progress)."""
+"""Preprocessing of press videos: contact-frame selection (paper Sec. II-A)."""
+
+from ._contact import ContactFrameSelector, ContactNotFoundWarning, contact_curve
+from ._plotting import plot_contact_selection
+
+__all__ = ["ContactFrameSelector", "ContactNotFoundWarning", "contact_curve", "plot_contact_selection"]

@@ -56,7 +56,11 @@ def check_video(video, *, name="video", min_frames=1, allow_float=True):
             f"{name} must be an array of frames (T, H, W, C), got {type(video).__name__}; "
             "read files with sklearn_hardness.io.read_video first."
         )
+    if hasattr(video, "tocsr") or hasattr(video, "toarray"):
+        raise TypeError(f"{name}: sparse input is not supported; pass dense frames.")
     arr = np.asarray(video)
+    if np.iscomplexobj(arr):
+        raise ValueError(f"{name}: Complex data not supported; frames must be real.")
     if arr.dtype == object or not (
         np.issubdtype(arr.dtype, np.integer)
         or np.issubdtype(arr.dtype, np.floating)
@@ -130,6 +134,10 @@ def check_video_sequence(X, *, name="X"):
     """
     if isinstance(X, (str, bytes)) or X is None:
         raise TypeError(f"{name} must be a sequence of videos, got {type(X).__name__}.")
+    if hasattr(X, "tocsr") or hasattr(X, "toarray"):
+        raise TypeError(f"{name}: sparse input is not supported; pass a sequence of videos.")
+    if np.iscomplexobj(X) if isinstance(X, np.ndarray) else False:
+        raise ValueError(f"{name}: Complex data not supported; frames must be real.")
     if isinstance(X, np.ndarray):
         if X.dtype != object and X.ndim != 5:
             raise ValueError(
@@ -200,9 +208,11 @@ def check_frames_array(X, *, name="X", n_frames=None, frame_shape=None, dtype=np
             "seen during fit."
         )
     arr = arr.astype(dtype, copy=False)
-    if not np.isfinite(arr).all():
-        bad = np.unique(np.nonzero(~np.isfinite(arr.reshape(arr.shape[0], -1)))[0])
-        raise ValueError(f"{name} contains NaN or infinite values in sample(s) {bad[:10].tolist()}.")
+    if np.issubdtype(arr.dtype, np.floating):
+        # one sample at a time: a whole-array isfinite would allocate a mask as large as X
+        bad = [i for i in range(arr.shape[0]) if not np.isfinite(arr[i]).all()]
+        if bad:
+            raise ValueError(f"{name} contains NaN or infinite values in sample(s) {bad[:10]}.")
     return arr
 
 

@@ -1,0 +1,48 @@
+"""Small synthetic press videos for tests of the data layer (not the simulator)."""
+
+import numpy as np
+
+
+def synthetic_press(
+    n_frames=30,
+    size=(48, 64),
+    contact_start=10,
+    peak=20,
+    amplitude=60.0,
+    noise=1.5,
+    drift=0.0,
+    gain_drift=0.0,
+    radius=12,
+    seed=0,
+    dtype=np.uint8,
+):
+    """A GelSight-like press: vignetted coloured background, a bright blob growing
+    from ``contact_start`` to full size at ``peak`` and then held, sensor noise,
+    additive (``drift`` levels per frame) and multiplicative (``gain_drift`` per
+    frame) illumination drift. Returns (T, H, W, 3) ``dtype``."""
+    rng = np.random.default_rng(seed)
+    h, w = size
+    yy, xx = np.mgrid[:h, :w].astype(np.float32)
+    vignette = np.exp(-(((yy - h / 2) / h) ** 2 + ((xx - w / 2) / w) ** 2) * 2.0)
+    background = (60 + 90 * vignette)[..., None] * np.array([1.0, 0.85, 0.7], np.float32)
+    background += np.stack([xx / w * 20, yy / h * 20, np.zeros_like(xx)], axis=-1)
+    frames = np.repeat(background[None], n_frames, axis=0).astype(np.float32)
+    t = np.arange(n_frames, dtype=np.float32)
+    frames *= (1.0 + gain_drift * t)[:, None, None, None]
+    frames += (drift * t)[:, None, None, None]
+    cy, cx = h / 2 + rng.uniform(-2, 2), w / 2 + rng.uniform(-2, 2)
+    r2 = (yy - cy) ** 2 + (xx - cx) ** 2
+    for i in range(contact_start, n_frames):
+        frac = 1.0 if peak <= contact_start else min(1.0, (i - contact_start + 1) / (peak - contact_start + 1))
+        r = radius * np.sqrt(frac)
+        blob = np.clip(1.0 - r2 / max(r, 0.5) ** 2, 0, None)
+        frames[i] += amplitude * frac * blob[..., None] * np.array([1.0, 0.6, 0.3], np.float32)
+    frames += rng.normal(0.0, noise, frames.shape).astype(np.float32)
+    frames = np.clip(frames, 0, 255)
+    if dtype == np.uint8:
+        return np.rint(frames).astype(np.uint8)
+    return (frames / 255.0).astype(dtype)
+
+
+def no_contact(n_frames=20, size=(48, 64), seed=0):
+    return synthetic_press(n_frames=n_frames, size=size, contact_start=n_frames + 1, peak=n_frames + 2, seed=seed)

@@ -1,0 +1,241 @@
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from sklearn.base import clone
+from sklearn.linear_model import LogisticRegression
+from sklearn.model_selection import cross_val_score
+from sklearn.pipeline import make_pipeline
+from sklearn.preprocessing import FunctionTransformer
+
+from sklearn_hardness.preprocessing import ContactFrameSelector, ContactNotFoundWarning, contact_curve
+
+from ._synthetic import no_contact, synthetic_press
+
+
+def test_finds_start_and_peak():
+    video = synthetic_press(n_frames=30, contact_start=10, peak=20)
+    sel = ContactFrameSelector(n_between=2).fit([video])
+    s = sel.selection_
+    assert s.contact_found.all()
+    # the synthetic blob's change grows quadratically from zero at frame 10: it passes
+    # the auto threshold (5% of the contrast above the noise) within two frames
+    assert 10 <= s.contact_start[0] <= 12
+    assert 19 <= s.contact_peak[0] <= 20
+    idx = s.indices[0]
+    assert idx[0] == s.contact_start[0] and idx[-1] == s.contact_peak[0]
+    assert np.all(np.diff(idx) > 0)
+    # equal spacing up to rounding
+    assert np.ptp(np.diff(idx)) <= 1
+
+
+def test_output_values_and_layout():
+    video = synthetic_press(n_frames=25, contact_start=8, peak=16)
+    sel = ContactFrameSelector(n_between=1)
+    out = sel.fit_transform([video, video])
+    assert out.shape == (2, 3, 48, 64, 3) and out.dtype == np.float32
+    idx = sel.selection_.indices[0]
+    expected = (video[idx].astype(np.float32) - video[0]) / 255.0
+    np.testing.assert_allclose(out[0], expected, atol=1e-6)
+    raw = ContactFrameSelector(n_between=1, subtract_first=False).fit_transform([video])
+    np.testing.assert_allclose(raw[0], video[idx] / 255.0, atol=1e-6)
+    assert raw.min() >= 0 and raw.max() <= 1
+
+
+def test_resize_crop_and_grey():
+    video = synthetic_press(n_frames=25, size=(48, 64))
+    sel = ContactFrameSelector(output_size=(12, 16), roi=(0.25, 0.75, 0.25, 0.75), color="gray")
+    out = sel.fit_transform([video])
+    assert out.shape == (1, 4, 12, 16, 1)
+    assert sel.frame_shape_ == (12, 16, 1)
+    # the crop keeps the blob, which is bright in red: the grey difference is positive at the centre
+    assert out[0, -1, 6, 8, 0] > 0.05
+
+
+@pytest.mark.parametrize("drift,gain_drift", [(0.6, 0.0), (0.0, 0.004), (0.4, 0.003)])
+def test_illumination_drift_does_not_move_contact(drift, gain_drift):
+    # up to ~18 grey levels of drift before contact, larger than the blob's first frames
+    clean = synthetic_press(n_frames=40, contact_start=25, peak=33)
+    drifting = synthetic_press(n_frames=40, contact_start=25, peak=33, drift=drift, gain_drift=gain_drift)
+    sel = ContactFrameSelector()
+    a = sel.select([clean])
+    b = sel.select([drifting])
+    assert b.contact_found.all()
+    assert abs(b.contact_start[0] - a.contact_start[0]) <= 1
+    assert abs(b.contact_peak[0] - a.contact_peak[0]) <= 1
+
+
+def test_drift_is_removed_from_curve():
+    drifting = synthetic_press(n_frames=30, contact_start=40, peak=41, drift=0.5, gain_drift=0.003)
+    curve = contact_curve(drifting)
+    # without removal, frame 29 would differ by ~ 15 + 0.087 * 150 levels on average
+    assert curve[1:].max() < 2.5
+
+
+def test_press_peaking_within_one_frame_repeats_indices():
+    video = synthetic_press(n_frames=20, contact_start=12, peak=12)
+    s = ContactFrameSelector(n_between=2).select([video])
+    assert s.contact_found[0]
+    assert s.contact_start[0] == s.contact_peak[0] == 12
+    assert s.indices[0].tolist() == [12, 12, 12, 12]
+    two = synthetic_press(n_frames=20, contact_start=12, peak=13)
+    s = ContactFrameSelector(n_between=2).select([two])
+    assert set(s.indices[0].tolist()) <= {12, 13} and len(s.indices[0]) == 4
+
+
+def test_no_contact_fallback_warns_with_count():
+    videos = [no_contact(seed=1), synthetic_press(), no_contact(seed=2)]
+    sel = ContactFrameSelector()
+    with pytest.warns(ContactNotFoundWarning, match=r"2 of 3 video\(s\) never reach contact \(X\[0, 2\]\)"):
+        out = sel.fit_transform(videos)
+    assert out.shape[0] == 3
+    assert sel.selection_.contact_found.tolist() == [False, True, False]
+    assert sel.selection_.indices[0][0] == 0
+
+
+def test_no_contact_raise():
+    with pytest.raises(ValueError, match=r"1 of 2 video\(s\) never reach contact: X\[1\]"):
+        ContactFrameSelector(on_no_contact="raise").fit([synthetic_press(), no_contact()])
+
+
+def test_constant_video_falls_back_to_whole_video():
+    video = np.full((6, 8, 8, 3), 90, np.uint8)
+    with pytest.warns(ContactNotFoundWarning):
+        s = ContactFrameSelector(n_between=1).select([video])
+    assert s.indices[0].tolist() == [0, 2, 5] or s.indices[0].tolist() == [0, 3, 5]
+
+
+def test_numeric_threshold():
+    video = synthetic_press(n_frames=30, contact_start=10, peak=20)
+    low = ContactFrameSelector(threshold=2.0).select([video])
+    high = ContactFrameSelector(threshold=3.5).select([video])
+    assert high.contact_start[0] > low.contact_start[0]
+    assert (low.threshold == 2.0).all()
+    with pytest.warns(ContactNotFoundWarning):
+        ContactFrameSelector(threshold=1e6).select([video])
+
+
+def test_videos_of_different_lengths_and_sizes():
+    a = synthetic_press(n_frames=25, size=(48, 64))
+    b = synthetic_press(n_frames=35, size=(48, 64), contact_start=15, peak=28)
+    c = synthetic_press(n_frames=30, size=(60, 80))
+    out = ContactFrameSelector().fit_transform([a, b])
+    assert out.shape == (2, 4, 48, 64, 3)
+    with pytest.raises(ValueError, match="different frame sizes.*output_size"):
+        ContactFrameSelector().fit_transform([a, c])
+    out = ContactFrameSelector(output_size=(24, 32)).fit_transform([a, b, c])
+    assert out.shape == (3, 4, 24, 32, 3)
+    sel = ContactFrameSelector().fit([a])
+    with pytest.raises(ValueError, match="seen in fit"):
+        sel.transform([c])
+
+
+def test_float_and_grey_input():
+    video = synthetic_press()
+    as_float = video.astype(np.float32) / 255.0
+    a = ContactFrameSelector().fit_transform([video])
+    b = ContactFrameSelector().fit_transform([as_float])
+    np.testing.assert_allclose(a, b, atol=1e-5)
+    grey = video.mean(axis=-1).astype(np.uint8)
+    out = ContactFrameSelector().fit_transform([grey])
+    assert out.shape[-1] == 3  # rgb output from grey input: replicated
+
+
+@pytest.mark.parametrize(
+    "bad,error,match",
+    [
+        ([np.zeros((1, 8, 8, 3), np.uint8)], ValueError, "1 frame"),
+        ([np.zeros((5, 8, 8, 4), np.uint8)], ValueError, "channels"),
+        ([np.zeros((5, 8), np.uint8)], ValueError, "dimension"),
+        ([np.array([["a"]])], TypeError, "numeric dtype"),
+        ([np.full((5, 8, 8, 3), 3.0)], ValueError, r"scaled to \[0, 1\]"),
+        ("video.mp4", TypeError, "sequence of videos"),
+        ([], ValueError, "no videos"),
+        (np.zeros((5, 8, 8, 3), np.uint8), ValueError, "For a single video, pass"),
+    ],
+)
+def test_bad_input(bad, error, match):
+    with pytest.raises(error, match=match):
+        ContactFrameSelector().fit(bad)
+
+
+def test_nan_frames_name_the_video_and_frame():
+    video = synthetic_press().astype(np.float32) / 255
+    video[7, 3, 3, 0] = np.nan
+    with pytest.raises(ValueError, match=r"X\[1\] contains NaN or infinite values in frame\(s\) \[7\]"):
+        ContactFrameSelector().fit([synthetic_press(), video])
+
+
+@pytest.mark.parametrize(
+    "params,match",
+    [
+        ({"n_between": -1}, "n_between"),
+        ({"threshold": "high"}, "threshold"),
+        ({"threshold": -2}, "threshold"),
+        ({"output_size": (10,)}, "output_size"),
+        ({"roi": (0.5, 0.2, 0, 1)}, "roi"),
+        ({"color": "hsv"}, "color"),
+        ({"on_no_contact": "skip"}, "on_no_contact"),
+        ({"n_baseline": 0}, "n_baseline"),
+    ],
+)
+def test_bad_params(params, match):
+    with pytest.raises(ValueError, match=match):
+        ContactFrameSelector(**params).fit([synthetic_press()])
+
+
+def test_transform_before_fit():
+    from sklearn.exceptions import NotFittedError
+
+    with pytest.raises(NotFittedError):
+        ContactFrameSelector().transform([synthetic_press()])
+
+
+def test_sklearn_api_with_videos():
+    videos = [synthetic_press(seed=s, contact_start=8 + s % 3) for s in range(6)]
+    sel = ContactFrameSelector(n_between=1, output_size=(12, 16), n_jobs=2)
+    assert clone(sel).get_params() == sel.get_params()
+    out = sel.fit_transform(videos)
+    np.testing.assert_array_equal(out, sel.transform(videos))  # fit_transform == fit + transform
+    np.testing.assert_array_equal(out[::-1], sel.transform(videos[::-1]))  # order invariant
+    np.testing.assert_array_equal(out[2:4], sel.transform(videos[2:4]))  # subset invariant
+    assert sel.set_params(n_between=3).fit_transform(videos).shape[1] == 5
+
+
+def test_in_a_pipeline_with_cross_validation():
+    y = np.array([0, 1] * 6)
+    # class 1 presses are brighter: learnable from the selected frames
+    videos = [synthetic_press(seed=i, amplitude=30 + 60 * y[i], size=(24, 32)) for i in range(12)]
+    pipe = make_pipeline(
+        ContactFrameSelector(output_size=(6, 8)),
+        FunctionTransformer(lambda x: x.reshape(len(x), -1)),
+        LogisticRegression(max_iter=500),
+    )
+    scores = cross_val_score(pipe, videos, y, cv=3)
+    assert scores.mean() > 0.9
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    n_frames=st.integers(2, 30),
+    start=st.integers(0, 35),
+    length=st.integers(0, 10),
+    n_between=st.integers(0, 4),
+    seed=st.integers(0, 100),
+)
+def test_indices_property(n_frames, start, length, n_between, seed):
+    video = synthetic_press(
+        n_frames=n_frames, size=(12, 16), contact_start=start, peak=start + length, radius=4, seed=seed
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ContactNotFoundWarning)
+        s = ContactFrameSelector(n_between=n_between).select([video])
+    idx = s.indices[0]
+    assert len(idx) == n_between + 2
+    assert 0 <= idx.min() and idx.max() < n_frames
+    assert np.all(np.diff(idx) >= 0)
+    assert np.isfinite(s.curves[0]).all()
+    if s.contact_found[0]:
+        assert s.contact_start[0] <= s.contact_peak[0]

@@ -1,0 +1,137 @@
+import numpy as np
+import pytest
+from sklearn.model_selection import train_test_split
+
+from sklearn_hardness.datasets import LazyVideoSequence, load_press_videos
+from sklearn_hardness.io import write_video
+
+from ._synthetic import synthetic_press
+
+
+def _write_dataset(root, n_per_class=3, labels=("soft", "hard"), hardness=(1.13, 0.44)):
+    rows = ["path,label,hardness,hardness_unit,object_id,force_path,timestamps_path,fps,operator"]
+    videos = []
+    for c, (label, h) in enumerate(zip(labels, hardness)):
+        for j in range(n_per_class):
+            video = synthetic_press(n_frames=12 + j, size=(16, 20), contact_start=4, peak=8, seed=10 * c + j)
+            name = f"videos/{label}_{j}.avi"
+            write_video(root / name, video)
+            np.save(root / f"videos/{label}_{j}_force.npy", np.linspace(0, 3, len(video)))
+            (root / f"videos/{label}_{j}_t.txt").write_text("\n".join(str(t / 25) for t in range(len(video))))
+            rows.append(
+                f"{name},{label},{h},mm/N,{label}-cast{j % 2},videos/{label}_{j}_force.npy,"
+                f"videos/{label}_{j}_t.txt,25,alice"
+            )
+            videos.append(video)
+    (root / "manifest.csv").write_text("\n".join(rows) + "\n")
+    return root / "manifest.csv", videos
+
+
+def test_load_round_trip(tmp_path):
+    manifest, videos = _write_dataset(tmp_path)
+    data = load_press_videos(manifest)
+    assert isinstance(data.videos, LazyVideoSequence)
+    assert len(data.videos) == 6
+    assert data.target_names.tolist() == ["hard", "soft"]  # sorted labels
+    assert data.target.tolist() == [1, 1, 1, 0, 0, 0]
+    np.testing.assert_allclose(data.hardness, [0.44, 1.13])
+    assert data.hardness_unit == "mm/N"
+    for i, video in enumerate(videos):
+        np.testing.assert_array_equal(data.videos[i], video)  # FFV1 is lossless
+        assert len(data.force[i]) == len(video) and len(data.timestamps[i]) == len(video)
+    assert data.object_id[0] == "soft-cast0"
+    assert data.metadata == {"operator": ["alice"] * 6}
+    np.testing.assert_allclose(data.fps, 25)
+
+
+def test_loading_is_lazy(tmp_path, monkeypatch):
+    manifest, _ = _write_dataset(tmp_path)
+    calls = []
+    import sklearn_hardness.io._video as video_mod
+
+    real = video_mod.read_video
+    monkeypatch.setattr("sklearn_hardness.datasets._manifest.read_video", lambda p: calls.append(p) or real(p))
+    data = load_press_videos(manifest)
+    assert calls == []
+    train, test, y_train, y_test = train_test_split(
+        data.videos, data.target, test_size=2, stratify=data.target, random_state=0
+    )
+    assert isinstance(train, LazyVideoSequence) and len(train) == 4
+    assert calls == []  # splitting decodes nothing
+    test[0]
+    assert len(calls) == 1
+
+
+def test_numeric_labels_sort_numerically(tmp_path):
+    manifest, _ = _write_dataset(tmp_path, labels=("10", "9"), hardness=(1, 2))
+    data = load_press_videos(manifest)
+    assert data.target_names.tolist() == ["9", "10"]
+
+
+def test_missing_files_are_all_listed(tmp_path):
+    manifest, _ = _write_dataset(tmp_path)
+    (tmp_path / "videos/soft_0.avi").unlink()
+    (tmp_path / "videos/hard_2.avi").unlink()
+    (tmp_path / "videos/hard_1_force.npy").unlink()
+    with pytest.raises(FileNotFoundError) as exc:
+        load_press_videos(manifest)
+    msg = str(exc.value)
+    assert "3 missing" in msg
+    for name in ("soft_0.avi", "hard_2.avi", "hard_1_force.npy"):
+        assert name in msg
+
+
+def test_manifest_errors(tmp_path):
+    with pytest.raises(FileNotFoundError, match="Manifest not found"):
+        load_press_videos(tmp_path / "none.csv")
+    bad = tmp_path / "bad.csv"
+    bad.write_text("file,class\na.avi,1\n")
+    with pytest.raises(ValueError, match="lacks required column"):
+        load_press_videos(bad)
+    bad.write_text("path,label\n")
+    with pytest.raises(ValueError, match="lists no videos"):
+        load_press_videos(bad)
+    manifest, _ = _write_dataset(tmp_path)
+    text = manifest.read_text().splitlines()
+    text[1] = text[1].replace(",1.13,", ",0.9,")
+    manifest.write_text("\n".join(text))
+    with pytest.raises(ValueError, match="one hardness value"):
+        load_press_videos(manifest)
+    text[1] = text[1].replace(",0.9,", ",soft,")
+    manifest.write_text("\n".join(text))
+    with pytest.raises(ValueError, match="'hardness' must be a number"):
+        load_press_videos(manifest)
+
+
+def test_lazy_sequence_indexing():
+    seq = LazyVideoSequence(lambda k: np.full((2, 3, 3, 3), k, np.uint8), range(5))
+    assert seq.shape == (5,)
+    assert int(seq[-1][0, 0, 0, 0]) == 4
+    assert [int(v[0, 0, 0, 0]) for v in seq[np.array([True, False, True, False, False])]] == [0, 2]
+    assert len(seq[1:4]) == 3
+    with pytest.raises(IndexError):
+        seq[5]
+    with pytest.raises(IndexError):
+        seq[np.array([[0, 1]])]
+
+
+_CALLS = []
+
+
+def _loader(k):
+    _CALLS.append(k)
+    return np.full((2, 3, 3, 3), k, np.uint8)
+
+
+def test_lazy_sequence_cache_and_pickle():
+    import pickle
+
+    _CALLS.clear()
+    seq = LazyVideoSequence(_loader, range(3), cache_size=2)
+    seq[0], seq[0], seq[1], seq[0]
+    assert _CALLS == [0, 1]  # the second and third access of video 0 hit the cache
+    seq[2]  # evicts video 1, the least recently used
+    seq[1]
+    assert _CALLS == [0, 1, 2, 1]
+    clone = pickle.loads(pickle.dumps(seq))
+    assert clone._cache == {} and clone[2].shape == (2, 3, 3, 3)
