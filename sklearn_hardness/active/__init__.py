@@ -1,1 +1,39 @@
-"""sklearn_hardness.active (work in progress)."""
+"""Active sampling: which reference object to press next.
+
+The paper's strategies score every *class* (reference object) by the
+Monte-Carlo-dropout uncertainty of the classifier on presses of the test
+object, and press the most uncertain one again (Algorithm 1).
+
+- :func:`class_uncertainty`: per-class entropy (Eq. 1), variance (Eq. 2) and
+  BALD from an ``(n_samples, n_X, n_classes)`` array of MC-dropout
+  probabilities.
+- :func:`entropy_sampling`, :func:`variance_sampling`, :func:`bald_sampling`,
+  :func:`random_sampling`: modAL-style strategies returning
+  ``(class_indices, scores)``.
+- :class:`ActiveLearner`: fit / query / teach with a capped training
+  reservoir and warm-started retraining.
+- :class:`PressOracle`: draws unseen presses of a queried object from a pool.
+"""
+
+from ._learner import ActiveLearner
+from ._oracle import PressOracle
+from ._strategies import (
+    bald_sampling,
+    entropy_sampling,
+    get_strategy,
+    random_sampling,
+    variance_sampling,
+)
+from ._uncertainty import UNCERTAINTY_KINDS, class_uncertainty
+
+__all__ = [
+    "ActiveLearner",
+    "PressOracle",
+    "class_uncertainty",
+    "UNCERTAINTY_KINDS",
+    "entropy_sampling",
+    "variance_sampling",
+    "bald_sampling",
+    "random_sampling",
+    "get_strategy",
+]

@@ -2,5 +2,6 @@
 
 from ._lazy import LazyVideoSequence
 from ._manifest import load_press_videos
+from ._simulator import make_presses
 
-__all__ = ["LazyVideoSequence", "load_press_videos"]
+__all__ = ["LazyVideoSequence", "load_press_videos", "make_presses"]

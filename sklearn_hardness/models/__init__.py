@@ -1,1 +1,28 @@
-"""sklearn_hardness.models (work in progress)."""
+"""Classifiers with Monte-Carlo-dropout uncertainty (skorch nets).
+
+* :class:`OFNNClassifier`: MLP head on optical-flow features.
+* :class:`DINOv2NNClassifier`: MLP head on frozen DINOv2 features.
+* :class:`ConvLSTMClassifier`: ConvLSTM trained end to end on selected frames.
+
+All three have ``predict_proba_samples(X, n_samples, random_state)`` for
+batched MC-dropout samples, and :func:`is_converged` implements the paper's
+convergence rule.
+"""
+
+from ._convergence import check_convergence, is_converged
+from ._convlstm import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
+from ._mc_dropout import MCDropout, MCDropoutClassifierBase
+from ._mlp import DINOv2NNClassifier, MLPHead, OFNNClassifier
+
+__all__ = [
+    "OFNNClassifier",
+    "DINOv2NNClassifier",
+    "ConvLSTMClassifier",
+    "MLPHead",
+    "ConvLSTMNet",
+    "ConvLSTMLayer",
+    "MCDropout",
+    "MCDropoutClassifierBase",
+    "is_converged",
+    "check_convergence",
+]

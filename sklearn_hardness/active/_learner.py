@@ -1,0 +1,631 @@
+"""A modAL-style active learner that retrains on a capped reservoir (Algorithm 1)."""
+
+from __future__ import annotations
+
+import contextlib
+import inspect
+import numbers
+
+import numpy as np
+from sklearn.base import BaseEstimator, ClassifierMixin, MetaEstimatorMixin, clone
+from sklearn.metrics import accuracy_score
+from sklearn.pipeline import Pipeline
+from sklearn.utils import _safe_indexing, check_random_state
+from sklearn.exceptions import NotFittedError
+from sklearn.utils.validation import check_is_fitted
+
+from ._strategies import (
+    _check_test_set,
+    _n_rows,
+    _predict_proba_samples,
+    _seed_from,
+    get_strategy,
+    variance_sampling,
+)
+from ._uncertainty import UNCERTAINTY_KINDS, class_uncertainty
+
+__all__ = ["ActiveLearner"]
+
+
+def _is_skorch_net(est):
+    try:
+        from skorch import NeuralNet
+    except ImportError:  # pragma: no cover - skorch is a dependency
+        return False
+    return isinstance(est, NeuralNet)
+
+
+def _concat_rows(a, b):
+    """Concatenate two row collections of the same kind (arrays, tensors, lists)."""
+    if isinstance(a, np.ndarray) and isinstance(b, np.ndarray):
+        if a.shape[1:] != b.shape[1:]:
+            raise ValueError(
+                f"new samples have shape {b.shape[1:]} per sample, the reservoir "
+                f"holds {a.shape[1:]}."
+            )
+        return np.concatenate([a, b], axis=0)
+    if hasattr(a, "detach") and hasattr(b, "detach"):  # torch tensors
+        import torch
+
+        return torch.cat([a, b], dim=0)
+    if hasattr(a, "shape") and hasattr(b, "shape"):  # e.g. sparse matrices
+        import scipy.sparse as sp
+
+        if sp.issparse(a) or sp.issparse(b):
+            return sp.vstack([a, b], format="csr")
+        return np.concatenate([np.asarray(a), np.asarray(b)], axis=0)
+    # sequences of videos (lists, lazy sequences): materialise the references
+    return [a[i] for i in range(len(a))] + [b[i] for i in range(len(b))]
+
+
+def _accepts_kwargs(func, names):
+    """The subset of ``names`` that ``func`` accepts as keyword arguments."""
+    try:
+        params = inspect.signature(func).parameters
+    except (TypeError, ValueError):  # builtins, odd callables
+        return set()
+    if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values()):
+        return set(names)
+    return {n for n in names if n in params}
+
+
+def _check_pos_int(value, name, allow_none=False):
+    if value is None and allow_none:
+        return None
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
+        raise ValueError(
+            f"{name} must be a positive int{' or None' if allow_none else ''}, got {value!r}."
+        )
+    return int(value)
+
+
+class _CachedSamples:
+    """Learner proxy handing a strategy the MC passes the learner already ran."""
+
+    def __init__(self, learner, X, n_samples, proba):
+        self._learner = learner
+        self._X = X
+        self._n_samples = n_samples
+        self._proba = proba
+
+    def predict_proba_samples(self, X, n_samples=50, random_state=None):
+        if X is self._X and n_samples == self._n_samples:
+            return self._proba
+        return self._learner.predict_proba_samples(
+            X, n_samples=n_samples, random_state=random_state
+        )
+
+    def __getattr__(self, name):
+        return getattr(self._learner, name)
+
+
+class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
+    """Active sampling of reference objects with a capped training reservoir.
+
+    Implements Algorithm 1 of the paper with a modAL-like interface:
+    :meth:`fit` trains on the initial presses (``s0`` per reference object)
+    for ``initial_epochs`` epochs; :meth:`query` runs ``n_mc_samples``
+    MC-dropout passes on presses of the test object and returns the
+    reference object(s) to press next; :meth:`teach` adds the new presses to
+    the reservoir and continues training (warm start) for
+    ``epochs_per_query`` epochs on the whole reservoir, or on a random
+    subset of ``max_reservoir`` samples when the reservoir is larger.
+
+    Parameters
+    ----------
+    estimator : estimator
+        A classifier with ``predict_proba_samples`` (e.g.
+        :class:`~sklearn_hardness.models.OFNNClassifier`) or a
+        :class:`~sklearn.pipeline.Pipeline` ending in one. It is cloned in
+        :meth:`fit`; the trained copy is ``estimator_``. If the final
+        estimator is a skorch net it is trained with
+        ``fit(X, y, epochs=initial_epochs)`` and then warm-started with
+        ``partial_fit(X, y, epochs=epochs_per_query)``. Any other final
+        estimator is refit from scratch on each training set (the epoch
+        counts are then unused). For a Pipeline, the steps before the last
+        are fit once, on the initial presses, and their output for every
+        reservoir sample is kept, so frozen features (optical flow, DINOv2)
+        are computed once per press.
+    query_strategy : {"variance", "entropy", "bald", "random"} or callable, \
+            default=variance_sampling
+        The strategy, by name or as a callable
+        ``strategy(learner, X_test, n_instances=1, *, n_samples, random_state)``
+        returning ``(class_indices, scores)`` or ``class_indices``
+        (``n_samples``/``random_state`` are passed only if accepted).
+    initial_epochs : int, default=100
+        Epochs of the initial training (``e0``).
+    epochs_per_query : int, default=50
+        Epochs of training after each :meth:`teach` (``e``).
+    max_reservoir : int or None, default=None
+        Largest training set per :meth:`teach` (``M``). When the reservoir
+        holds more samples, a random subset of this size is used. ``None``
+        always trains on the whole reservoir. Must be at least the number of
+        presses passed to one :meth:`teach`.
+    n_mc_samples : int, default=50
+        MC-dropout passes per :meth:`query` (``n``).
+    classes : array-like or None, default=None
+        All class labels (reference objects). Every class must be in the
+        initial training set. ``None`` takes them from the final
+        estimator's ``classes`` parameter if set, else from ``y`` in
+        :meth:`fit`; integer labels must then be ``0 .. n_classes - 1``
+        with none missing.
+    cache_test_features : bool, default=True
+        For a Pipeline, keep the feature-step output of the last ``X``
+        passed to :meth:`query`, :meth:`predict`, :meth:`predict_proba`,
+        :meth:`predict_proba_samples` or :meth:`score`, reused while the
+        *same object* is passed again (the test presses are evaluated every
+        iteration). Set to False if you modify ``X`` in place between calls.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the reservoir subsets, the MC-dropout masks, tie-breaking and
+        the random strategy; with an int, training (weight init, batch
+        order, dropout) is seeded too, through a forked torch RNG that
+        leaves the global torch seed untouched.
+
+    Attributes
+    ----------
+    estimator_ : estimator
+        The trained clone of ``estimator``.
+    classes_ : ndarray of shape (n_classes,)
+        Class labels; :meth:`query` returns indices into this array.
+    reservoir_X_ : ndarray, tensor or list
+        The training reservoir: for a Pipeline, the output of its feature
+        steps; otherwise the raw samples.
+    reservoir_y_ : ndarray of shape (n_reservoir,)
+        Labels of the reservoir.
+    history_ : list of dict
+        One entry per event, in order; ``pandas.DataFrame(history_)`` gives a
+        table. Every entry has ``"event"`` (``"fit"``, ``"query"`` or
+        ``"teach"``) and ``"iteration"`` (number of :meth:`teach` calls so
+        far). ``"fit"`` and ``"teach"`` entries have ``n_new``,
+        ``new_classes``, ``reservoir_size``, ``train_size``, ``epochs`` and
+        ``train_loss`` (the last epoch's training loss for a skorch net,
+        else None). ``"query"`` entries have ``queried`` (class indices),
+        ``scores`` (the strategy's per-class scores or None), ``n_test``,
+        and the per-class ``entropy``, ``variance`` and ``bald`` of the
+        same MC passes (see :func:`class_uncertainty`).
+    initial_train_loss_ : float or None
+        Training loss after the initial training (the paper reports
+        ConvLSTM runs with a loss above 1 as not converged).
+    n_iterations_ : int
+        Number of :meth:`teach` calls since :meth:`fit`.
+
+    See Also
+    --------
+    PressOracle : draws new presses of a queried reference object.
+    class_uncertainty : the per-class scores.
+
+    Examples
+    --------
+    One active-sampling run (Algorithm 1) in a few lines, with ``clf`` a
+    Monte-Carlo-dropout classifier and ``oracle`` a :class:`PressOracle`::
+
+        X0, y0 = oracle.initial(5)                 # s0 = 5 presses per object
+        learner = ActiveLearner(clf, "variance", initial_epochs=100,
+                                epochs_per_query=50, max_reservoir=40)
+        learner.fit(X0, y0)
+        for _ in range(5):                         # N = 5 iterations
+            idx, scores = learner.query(X_test)
+            learner.teach(*oracle.press(learner.classes_[idx[0]], 5))
+            acc = learner.score(X_test, y_test)    # dropout off
+    """
+
+    def __init__(
+        self,
+        estimator,
+        query_strategy=variance_sampling,
+        *,
+        initial_epochs=100,
+        epochs_per_query=50,
+        max_reservoir=None,
+        n_mc_samples=50,
+        classes=None,
+        cache_test_features=True,
+        random_state=None,
+    ):
+        self.estimator = estimator
+        self.query_strategy = query_strategy
+        self.initial_epochs = initial_epochs
+        self.epochs_per_query = epochs_per_query
+        self.max_reservoir = max_reservoir
+        self.n_mc_samples = n_mc_samples
+        self.classes = classes
+        self.cache_test_features = cache_test_features
+        self.random_state = random_state
+
+    # ------------------------------------------------------------------ helpers
+    def _final(self):
+        est = self.estimator_
+        return est.steps[-1][1] if isinstance(est, Pipeline) else est
+
+    def _feature_steps(self):
+        est = self.estimator_
+        if not isinstance(est, Pipeline):
+            return []
+        return [
+            step
+            for _, step in est.steps[:-1]
+            if step is not None and not (isinstance(step, str) and step == "passthrough")
+        ]
+
+    def _transform(self, X, *, cache=False):
+        steps = self._feature_steps()
+        if not steps:
+            return X
+        if cache and self.cache_test_features:
+            cached = getattr(self, "_feature_cache", None)
+            if cached is not None and cached[0] is X:
+                return cached[1]
+        Xt = X
+        for step in steps:
+            Xt = step.transform(Xt)
+        if cache and self.cache_test_features:
+            self._feature_cache = (X, Xt)
+        return Xt
+
+    @contextlib.contextmanager
+    def _seeded_torch(self):
+        if self.random_state is None:
+            yield
+            return
+        import torch
+
+        seed = _seed_from(self._rng)
+        with torch.random.fork_rng(devices=[]):
+            torch.manual_seed(seed)
+            yield
+
+    def _train(self, Xt, y, epochs, *, first):
+        final = self._final()
+        with self._seeded_torch():
+            if _is_skorch_net(final):
+                if first:
+                    final.fit(Xt, y, epochs=epochs)
+                else:
+                    final.partial_fit(Xt, y, epochs=epochs)
+            else:
+                final.fit(Xt, y)
+        return self._last_train_loss()
+
+    def _last_train_loss(self):
+        hist = getattr(self._final(), "history_", None)
+        if hist is None:
+            return None
+        try:
+            return float(hist[-1, "train_loss"])
+        except (KeyError, IndexError, TypeError, ValueError):
+            return None
+
+    def _check_labels(self, y, what):
+        y = np.asarray(y)
+        if y.ndim != 1:
+            raise ValueError(f"{what} must be 1-D, got shape {y.shape}.")
+        unknown = np.setdiff1d(np.unique(y), self.classes_)
+        if unknown.size:
+            raise ValueError(
+                f"{what} has labels {unknown.tolist()} that are not among the "
+                f"classes {self.classes_.tolist()}."
+            )
+        return y
+
+    def _resolve_classes(self, y):
+        classes = self.classes
+        if classes is None and isinstance(self.estimator, Pipeline):
+            classes = getattr(self.estimator.steps[-1][1], "classes", None)
+        elif classes is None:
+            classes = getattr(self.estimator, "classes", None)
+        present = np.unique(y)
+        if classes is not None and len(classes) > 0:
+            classes = np.asarray(classes)
+            if np.unique(classes).size != classes.size:
+                raise ValueError(f"classes has duplicates: {classes.tolist()}.")
+            classes = np.sort(classes)
+        elif np.issubdtype(present.dtype, np.integer):
+            if present.min() < 0:
+                raise ValueError(
+                    f"integer labels must be class indices 0 .. n_classes - 1, got "
+                    f"{present.min()}."
+                )
+            classes = np.arange(present.max() + 1)
+        else:
+            classes = present
+        unknown = np.setdiff1d(present, classes)
+        if unknown.size:
+            raise ValueError(
+                f"y has labels {unknown.tolist()} that are not among the classes "
+                f"{classes.tolist()}."
+            )
+        missing = np.setdiff1d(classes, present)
+        if missing.size:
+            raise ValueError(
+                f"classes {missing.tolist()} are missing from the initial training "
+                "set: every reference object needs initial presses (s0 > 0) before "
+                "active sampling can choose between them."
+            )
+        return classes
+
+    def _n_out_check(self, n_out):
+        if n_out != len(self.classes_):
+            raise ValueError(
+                f"the model outputs {n_out} class probabilities but there are "
+                f"{len(self.classes_)} classes {self.classes_.tolist()}; the model's "
+                "number of classes must match the labels seen in fit."
+            )
+
+    # ------------------------------------------------------------------ API
+    def fit(self, X, y):
+        """Initial training on the first presses of every reference object.
+
+        Parameters
+        ----------
+        X : array-like or sequence of videos
+            Initial presses (``s0`` per reference object). For a Pipeline,
+            raw input of its first step.
+        y : array-like of shape (n_samples,)
+            Their labels. Every class must be present.
+
+        Returns
+        -------
+        self : ActiveLearner
+        """
+        get_strategy(self.query_strategy)  # fail early on an unknown name
+        initial_epochs = _check_pos_int(self.initial_epochs, "initial_epochs")
+        _check_pos_int(self.epochs_per_query, "epochs_per_query")
+        _check_pos_int(self.n_mc_samples, "n_mc_samples")
+        _check_pos_int(self.max_reservoir, "max_reservoir", allow_none=True)
+        if not (hasattr(X, "__len__") or hasattr(X, "shape")):
+            raise TypeError(f"X must be an array or a sequence, got {type(X).__name__}.")
+        y = np.asarray(y)
+        if y.ndim != 1:
+            raise ValueError(f"y must be 1-D, got shape {y.shape}.")
+        n = _n_rows(X)
+        if n == 0:
+            raise ValueError("X is empty: the initial training set needs presses.")
+        if n != y.shape[0]:
+            raise ValueError(f"X has {n} samples but y has {y.shape[0]} labels.")
+
+        self.classes_ = self._resolve_classes(y)
+        self._rng = check_random_state(self.random_state)
+        self._feature_cache = None
+        self.estimator_ = clone(self.estimator)
+        if isinstance(self.estimator_, Pipeline) and len(self.estimator_.steps) > 1:
+            Xt = self.estimator_[:-1].fit_transform(X, y)
+        else:
+            Xt = X
+        loss = self._train(Xt, y, initial_epochs, first=True)
+        self.reservoir_X_ = Xt
+        self.reservoir_y_ = y.copy()
+        self.n_iterations_ = 0
+        self.initial_train_loss_ = loss
+        self.history_ = [
+            {
+                "event": "fit",
+                "iteration": 0,
+                "n_new": n,
+                "new_classes": np.unique(y),
+                "reservoir_size": n,
+                "train_size": n,
+                "epochs": initial_epochs,
+                "train_loss": loss,
+            }
+        ]
+        return self
+
+    def predict_proba_samples(self, X, n_samples=None, random_state=None):
+        """Class probabilities of MC-dropout passes (dropout on).
+
+        Parameters
+        ----------
+        X : array-like or sequence of videos
+            Inputs (raw input of the Pipeline's first step).
+        n_samples : int or None, default=None
+            Number of passes; ``None`` uses ``n_mc_samples``.
+        random_state : int, RandomState instance or None, default=None
+            Seed for the dropout masks.
+
+        Returns
+        -------
+        proba_samples : ndarray of shape (n_samples, n_X, n_classes)
+        """
+        check_is_fitted(self, "estimator_")
+        n_samples = self.n_mc_samples if n_samples is None else n_samples
+        _check_pos_int(n_samples, "n_samples")
+        proba = _predict_proba_samples(
+            self._final(),
+            self._transform(X, cache=True),
+            n_samples=n_samples,
+            random_state=random_state,
+        )
+        proba = np.asarray(proba)
+        self._n_out_check(proba.shape[-1])
+        return proba
+
+    def query(self, X_test, n_instances=1):
+        """Choose the reference object(s) to press next.
+
+        Runs ``n_mc_samples`` MC-dropout passes on the test presses, records
+        the per-class entropy, variance and BALD of those passes in
+        ``history_``, and calls the query strategy on them.
+
+        Parameters
+        ----------
+        X_test : array-like or sequence of videos
+            Presses of the test object (at least one).
+        n_instances : int, default=1
+            Number of distinct classes to return.
+
+        Returns
+        -------
+        class_indices : ndarray of shape (n_instances,), int
+            Indices into ``classes_``, most informative first.
+        scores : ndarray of shape (n_classes,) or None
+            The strategy's per-class scores (None if a custom strategy
+            returns indices only).
+        """
+        check_is_fitted(self, "estimator_")
+        strategy = get_strategy(self.query_strategy)
+        _check_test_set(X_test)
+        seed = _seed_from(self._rng)
+        proba = self.predict_proba_samples(
+            X_test, n_samples=self.n_mc_samples, random_state=seed
+        )
+        proxy = _CachedSamples(self, X_test, self.n_mc_samples, proba)
+        kwargs = {"n_samples": self.n_mc_samples, "random_state": _seed_from(self._rng)}
+        kwargs = {k: v for k, v in kwargs.items() if k in _accepts_kwargs(strategy, kwargs)}
+        result = strategy(proxy, X_test, n_instances, **kwargs)
+        if isinstance(result, tuple) and len(result) == 2:
+            idx, scores = result
+            scores = None if scores is None else np.asarray(scores, dtype=np.float64)
+        else:
+            idx, scores = result, None
+        idx = np.atleast_1d(np.asarray(idx))
+        n_classes = len(self.classes_)
+        if (
+            idx.ndim != 1
+            or not np.issubdtype(idx.dtype, np.integer)
+            or np.any(idx < 0)
+            or np.any(idx >= n_classes)
+        ):
+            raise ValueError(
+                f"the query strategy must return class indices in [0, {n_classes}), "
+                f"got {idx!r}."
+            )
+        entry = {
+            "event": "query",
+            "iteration": self.n_iterations_,
+            "queried": idx,
+            "scores": scores,
+            "n_test": int(proba.shape[1]),
+        }
+        for kind in UNCERTAINTY_KINDS:
+            entry[kind] = class_uncertainty(proba, kind)
+        self.history_.append(entry)
+        return idx, scores
+
+    def teach(self, X_new, y_new):
+        """Add presses to the reservoir and continue training.
+
+        Trains ``epochs_per_query`` epochs (warm start) on the whole
+        reservoir, or on a random subset of ``max_reservoir`` samples when
+        the reservoir is larger.
+
+        Parameters
+        ----------
+        X_new : array-like or sequence of videos
+            New presses (raw input of the Pipeline's first step).
+        y_new : array-like of shape (n_new,)
+            Their labels (must be among ``classes_``).
+
+        Returns
+        -------
+        self : ActiveLearner
+        """
+        if not hasattr(self, "estimator_"):
+            raise NotFittedError(
+                "teach() called before fit(): train on the initial presses first."
+            )
+        y_new = self._check_labels(y_new, "y_new")
+        n_new = _n_rows(X_new)
+        if n_new == 0:
+            raise ValueError("X_new is empty: teach() needs at least one new press.")
+        if n_new != y_new.shape[0]:
+            raise ValueError(f"X_new has {n_new} samples but y_new has {y_new.shape[0]} labels.")
+        M = self.max_reservoir
+        if M is not None and M < n_new:
+            raise ValueError(
+                f"max_reservoir={M} is smaller than the batch of {n_new} new presses; "
+                "the training subset could not even hold one batch. Increase "
+                "max_reservoir or teach fewer presses at a time."
+            )
+        Xt_new = self._transform(X_new)
+        self.reservoir_X_ = _concat_rows(self.reservoir_X_, Xt_new)
+        self.reservoir_y_ = np.concatenate([self.reservoir_y_, y_new])
+        size = self.reservoir_y_.shape[0]
+        if M is not None and size > M:
+            subset = self._rng.choice(size, M, replace=False)
+            X_train = _safe_indexing(self.reservoir_X_, subset)
+            y_train = self.reservoir_y_[subset]
+        else:
+            X_train, y_train = self.reservoir_X_, self.reservoir_y_
+        loss = self._train(X_train, y_train, self.epochs_per_query, first=False)
+        self.n_iterations_ += 1
+        self.history_.append(
+            {
+                "event": "teach",
+                "iteration": self.n_iterations_,
+                "n_new": n_new,
+                "new_classes": np.unique(y_new),
+                "reservoir_size": size,
+                "train_size": int(y_train.shape[0]),
+                "epochs": self.epochs_per_query,
+                "train_loss": loss,
+            }
+        )
+        return self
+
+    def predict_proba(self, X):
+        """Class probabilities with dropout off.
+
+        Parameters
+        ----------
+        X : array-like or sequence of videos
+
+        Returns
+        -------
+        proba : ndarray of shape (n_X, n_classes)
+        """
+        check_is_fitted(self, "estimator_")
+        proba = np.asarray(self._final().predict_proba(self._transform(X, cache=True)))
+        self._n_out_check(proba.shape[-1])
+        return proba
+
+    def predict(self, X):
+        """Predicted class labels with dropout off.
+
+        Parameters
+        ----------
+        X : array-like or sequence of videos
+
+        Returns
+        -------
+        y_pred : ndarray of shape (n_X,)
+        """
+        return self.classes_[np.argmax(self.predict_proba(X), axis=1)]
+
+    def score(self, X, y, sample_weight=None):
+        """Accuracy with dropout off.
+
+        Parameters
+        ----------
+        X : array-like or sequence of videos
+        y : array-like of shape (n_X,)
+        sample_weight : array-like of shape (n_X,), default=None
+
+        Returns
+        -------
+        accuracy : float
+        """
+        return accuracy_score(y, self.predict(X), sample_weight=sample_weight)
+
+    def uncertainty_history(self, kind="variance", reduce="mean"):
+        """Per-query uncertainty, e.g. for the paper's entropy/variance plots.
+
+        Parameters
+        ----------
+        kind : {"entropy", "variance", "bald"}, default="variance"
+        reduce : {"mean", "max", None}, default="mean"
+            How to reduce over classes; None keeps all classes.
+
+        Returns
+        -------
+        values : ndarray of shape (n_queries,) or (n_queries, n_classes)
+        """
+        check_is_fitted(self, "estimator_")
+        if kind not in UNCERTAINTY_KINDS:
+            raise ValueError(f"kind must be one of {list(UNCERTAINTY_KINDS)}, got {kind!r}.")
+        if reduce not in ("mean", "max", None):
+            raise ValueError(f"reduce must be 'mean', 'max' or None, got {reduce!r}.")
+        rows = [h[kind] for h in self.history_ if h["event"] == "query"]
+        values = np.array(rows).reshape(len(rows), len(self.classes_))
+        if reduce is None:
+            return values
+        return getattr(values, reduce)(axis=1)

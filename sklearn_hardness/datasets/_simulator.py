@@ -1,0 +1,474 @@
+"""Physics-based simulator of GelSight press videos: :func:`make_presses`.
+
+Real recordings of the paper cannot be downloaded here, so this simulator is
+the library's built-in dataset. It models, per press (see ``docs/simulator.md``
+for the full derivation and sources):
+
+Mechanics (``_sim_mechanics``)
+    Gel (compliance ``c_g``, a few tenths of a mm/N, varying between sensors)
+    and object (``c_o``) are nonlinear springs in series carrying the same
+    force ``F``: ``delta_i = c_i F_r^(1-m) F^m`` with the Hertz exponent
+    ``m = 2/3`` and ``F_r = 1`` N. The gel is a dome of radius ``R``: the
+    contact radius follows the *total* approach, ``a = sqrt(R (delta_g + delta_o))``,
+    while the gel is indented only by its share ``delta_g = c_g / (c_g + c_o) delta``.
+    Gel depth and image intensity therefore grow with force for every object;
+    the hardness is in the relation ``a^2 / delta_g = R (c_g + c_o) / c_g`` and
+    in how contact size and depth evolve together during the press.
+
+Motion
+    A drive of compliance ``c_d`` (the robot's impedance controller, or a
+    hand) advances at ``v_push`` (uneven for hands), stops when a first-order
+    lagged force estimate reaches ``F_push`` (so the true force overshoots),
+    decelerates, holds briefly and retreats. Frames before contact and after
+    release are recorded, with per-frame timestamps and (noisy) force.
+
+Optics (``_sim_optics``)
+    A GelSight-like background (colour gradient from three coloured side
+    lights, vignetting, faint coating pattern); the gel surface follows the
+    Hertz profile and is shaded by its normals under the three lights; dark
+    markers move with the gel's lateral displacement; camera noise, slow
+    illumination drift, small offsets of the contact point.
+
+Presets (``_sim_presets``)
+    ``silicone5``: the paper's robot dataset; ``shore9``: Yuan et al.'s flat
+    Shore 00 samples pressed by hand.
+
+Videos are rendered lazily on access from stored parameters and per-press
+seeds, so the whole ``silicone5`` set costs little memory, and the same seed
+gives identical frames whatever the access order.
+"""
+
+from __future__ import annotations
+
+import numbers
+import threading
+from collections import OrderedDict
+
+import numpy as np
+from sklearn.utils import Bunch, check_random_state
+
+from ._sim_mechanics import simulate_press
+from ._sim_optics import SensorOptics, render_press
+from ._sim_presets import PRESETS, modulus_to_compliance, resolve_params, shore00_to_modulus
+
+__all__ = ["make_presses", "SimulatedPressVideos", "object_compliance"]
+
+
+def object_compliance(preset, hardness, dome_radius):
+    """Nominal compliance (mm/N at 1 N) of each object of a preset.
+
+    ``silicone5`` quotes compliance directly; ``shore9`` converts Shore 00 to
+    Young's modulus (:func:`shore00_to_modulus`) and the modulus to the
+    compliance of a flat block under the gel dome (:func:`modulus_to_compliance`).
+    """
+    hardness = np.asarray(hardness, dtype=float)
+    if PRESETS[preset]["hardness_unit"] == "mm/N":
+        return hardness.copy()
+    return modulus_to_compliance(shore00_to_modulus(hardness), dome_radius)
+
+
+class _Simulation:
+    """Everything needed to render any press of one simulated dataset."""
+
+    def __init__(self, params, image_size, markers, sensor_seeds, sensor_idx, mechanics,
+                 centers, render_seeds):
+        self.params = params
+        self.image_size = image_size
+        self.markers = markers
+        self.sensor_seeds = sensor_seeds
+        self.sensor_idx = sensor_idx
+        self.mechanics = mechanics
+        self.centers = centers
+        self.render_seeds = render_seeds
+        self._sensors = {}
+        self._lock = threading.Lock()
+
+    def __getstate__(self):
+        # Sensors (background, noise bank) are rebuilt from their seeds.
+        state = self.__dict__.copy()
+        state["_sensors"] = {}
+        del state["_lock"]
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self._lock = threading.Lock()
+
+    def sensor(self, k):
+        with self._lock:
+            if k not in self._sensors:
+                rng = np.random.default_rng(self.sensor_seeds[k])
+                self._sensors[k] = SensorOptics(rng, self.image_size, self.params, self.markers)
+            return self._sensors[k]
+
+    def render(self, i):
+        rng = np.random.default_rng(self.render_seeds[i])
+        return render_press(
+            self.sensor(int(self.sensor_idx[i])), self.mechanics[i], self.centers[i], rng,
+            self.params["drift_amplitude"],
+        )
+
+
+class SimulatedPressVideos:
+    """Lazy sequence of simulated press videos.
+
+    Each video is rendered when accessed, from the stored press parameters
+    and a per-press seed, so indexing in any order gives the same frames. It
+    behaves like a read-only list of ``(T, H, W, 3)`` ``uint8`` arrays:
+    ``len``, iteration, an integer index (returns the video), and a slice,
+    integer array or boolean mask (returns a new lazy sequence). It has a
+    ``shape`` of ``(n_videos,)`` so that :func:`sklearn.utils._safe_indexing`,
+    :func:`~sklearn.model_selection.train_test_split` and
+    :func:`~sklearn.model_selection.cross_val_score` keep it lazy.
+
+    Parameters
+    ----------
+    simulation : object
+        The simulated dataset (internal).
+    indices : array-like of int
+        Which presses of the dataset this sequence holds.
+    cache_size : int, default=0
+        Number of most recently rendered videos kept in memory (each is
+        returned as a copy). 0 renders on every access.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.datasets import make_presses
+    >>> data = make_presses(n_per_class=2, image_size=(48, 64), random_state=0)
+    >>> videos = data.videos
+    >>> len(videos), videos[0].dtype, videos[0].shape[1:]
+    (10, dtype('uint8'), (48, 64, 3))
+    >>> len(videos[[0, 3, 4]])
+    3
+    """
+
+    def __init__(self, simulation, indices, cache_size=0):
+        self._sim = simulation
+        self._indices = np.asarray(indices, dtype=np.intp)
+        self.cache_size = cache_size
+        self._cache = OrderedDict()
+        self._lock = threading.Lock()
+
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        state["_cache"] = OrderedDict()
+        del state["_lock"]
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self._lock = threading.Lock()
+
+    @property
+    def shape(self):
+        """``(n_videos,)``: the number of videos (frames differ in length)."""
+        return (len(self._indices),)
+
+    @property
+    def indices(self):
+        """Indices of these videos in the dataset made by :func:`make_presses`."""
+        return self._indices.copy()
+
+    def __len__(self):
+        return len(self._indices)
+
+    def __iter__(self):
+        for i in range(len(self)):
+            yield self[i]
+
+    def __repr__(self):
+        h, w = self._sim.image_size
+        return f"SimulatedPressVideos(n_videos={len(self)}, image_size=({h}, {w}), lazy)"
+
+    def _render(self, j):
+        with self._lock:
+            if j in self._cache:
+                self._cache.move_to_end(j)
+                return self._cache[j].copy()
+        video = self._sim.render(j)
+        if self.cache_size:
+            with self._lock:
+                self._cache[j] = video
+                while len(self._cache) > self.cache_size:
+                    self._cache.popitem(last=False)
+            return video.copy()
+        return video
+
+    def __getitem__(self, key):
+        if isinstance(key, tuple):
+            # numpy-style ``X[key, ...]`` as used by sklearn's _safe_indexing.
+            rest = key[1:]
+            if not key or any(k is not Ellipsis and k != slice(None) for k in rest):
+                raise IndexError(
+                    f"SimulatedPressVideos supports one index (videos), got {key!r}; "
+                    "index a video's frames after reading it, e.g. videos[i][t]."
+                )
+            key = key[0]
+        n = len(self)
+        if isinstance(key, (numbers.Integral, np.integer)) and not isinstance(key, (bool, np.bool_)):
+            i = int(key)
+            if not -n <= i < n:
+                raise IndexError(f"video index {i} is out of range for {n} videos.")
+            return self._render(int(self._indices[i % n]))
+        if isinstance(key, slice):
+            return SimulatedPressVideos(self._sim, self._indices[key], self.cache_size)
+        arr = np.asarray(key)
+        if arr.dtype == bool:
+            if arr.shape != (n,):
+                raise IndexError(f"boolean mask of shape {arr.shape} does not match {n} videos.")
+            arr = np.flatnonzero(arr)
+        elif arr.size == 0:
+            arr = arr.astype(np.intp)
+        elif not np.issubdtype(arr.dtype, np.integer):
+            raise IndexError(
+                f"videos can be indexed by an int, a slice, or an array of ints or bools; got "
+                f"{arr.dtype} values."
+            )
+        if arr.ndim != 1:
+            raise IndexError(f"index arrays must be 1-d, got shape {arr.shape}.")
+        if arr.size and (arr.min() < -n or arr.max() >= n):
+            raise IndexError(f"video index out of range for {n} videos: {arr.tolist()}.")
+        return SimulatedPressVideos(self._sim, self._indices[arr], self.cache_size)
+
+
+def _check_image_size(image_size):
+    try:
+        h, w = image_size
+    except (TypeError, ValueError):
+        raise TypeError(f"image_size must be a pair (height, width), got {image_size!r}.") from None
+    out = []
+    for name, v in (("height", h), ("width", w)):
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Integral, np.integer)):
+            raise TypeError(f"image_size {name} must be an integer, got {v!r}.")
+        if not 16 <= int(v) <= 4096:
+            raise ValueError(f"image_size {name}={v} is out of range: it must lie in [16, 4096].")
+        out.append(int(v))
+    return tuple(out)
+
+
+def _seed_sequence(random_state):
+    if isinstance(random_state, np.random.Generator):
+        entropy = int(random_state.integers(0, 2**63 - 1))
+    else:
+        entropy = int(check_random_state(random_state).randint(0, 2**31 - 1))
+    return np.random.SeedSequence(entropy)
+
+
+def _seed_int(ss):
+    return int(ss.generate_state(2, dtype=np.uint64)[0] >> np.uint64(1))
+
+
+def _descr(preset, params, n, image_size):
+    lines = [
+        f"Simulated GelSight press videos, preset '{preset}'",
+        "=" * 60,
+        "",
+        params["description"],
+        "",
+        f"Presses: {n} ({len(params['hardness'])} objects); frames {image_size[0]}x{image_size[1]} RGB "
+        f"uint8 at {params['fps']:g} fps.",
+        f"Hardness ({params['hardness_unit']}): {', '.join(f'{h:g}' for h in params['hardness'])}.",
+        "",
+        "Physics: gel and object are Hertz-like springs in series (delta = c F^(2/3)); the contact "
+        "radius follows the total approach (a = sqrt(R delta)), the gel is indented by its share only; "
+        "the drive stops on a lagged force estimate (overshoot); shading from the gel's normals under "
+        "three coloured lights; markers follow the lateral displacement; noise, drift, offsets. "
+        "See docs/simulator.md.",
+        "",
+        "Parameters:",
+    ]
+    for k in sorted(params):
+        if k not in ("description",):
+            v = params[k]
+            v = np.round(v, 4).tolist() if isinstance(v, np.ndarray) else v
+            lines.append(f"  {k} = {v}")
+    return "\n".join(lines)
+
+
+def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_size=(240, 320),
+                 shuffle=True, return_mechanics=False, random_state=None, **physics):
+    """Simulate GelSight press videos of objects of known hardness.
+
+    A physics-based stand-in for the paper's datasets (Sec. III-A): gel and
+    object as Hertz-like springs in series under a domed gel, a drive that
+    stops on a lagged force estimate, and GelSight-like optics (three-light
+    shading, markers, noise, drift). See the module docstring and
+    ``docs/simulator.md`` for the equations.
+
+    Parameters
+    ----------
+    preset : {"silicone5", "shore9"}, default="silicone5"
+        ``"silicone5"``: five silicone objects of compliance 1.13, 1.02,
+        0.79, 0.68 and 0.44 mm/N pressed by a robot with a GelSight Mini at
+        25 fps, ``F_push ~ U[1, 5]`` N, ``v_push ~ U[20, 50]`` mm/s, 91 presses
+        per object. ``"shore9"``: Yuan et al.'s flat samples of Shore 00 8,
+        17, 27, 46, 62, 73, 81, 87, 95 pressed by hand (slow, uneven), 30 fps,
+        40 presses per object.
+    n_per_class : int or None, default=None
+        Presses per object; ``None`` uses the preset's number.
+    markers : bool, default=True
+        Whether the gel carries dark markers.
+    image_size : (int, int), default=(240, 320)
+        Frame height and width in pixels (GelSight Mini streams 240x320).
+        The field of view stays the same; smaller images are coarser.
+    shuffle : bool, default=True
+        Shuffle the presses; otherwise they are grouped by object.
+    return_mechanics : bool, default=False
+        Also return ``mechanics``: per press, a dict of per-frame arrays
+        ``time``, ``force_true``, ``position``, ``approach``,
+        ``gel_indentation``, ``object_indentation``, ``contact_radius``
+        (all in s, N, mm) and ``lateral_shift`` (marker spread at the
+        contact edge, mm).
+    random_state : int, RandomState instance, Generator or None, default=None
+        Seed of everything random. The same seed gives identical videos,
+        forces and parameters, whatever order the videos are read in.
+    **physics
+        Overrides of the preset's physical parameters, e.g.
+        ``gel_compliance=0.4``, ``force_range=(2, 4)``, ``noise_std=0``,
+        ``hardness=[1.0, 0.5]`` (objects in the preset's unit). See
+        ``sklearn_hardness.datasets._sim_presets.PARAM_SPECS`` for all names,
+        meanings and allowed ranges.
+
+    Returns
+    -------
+    data : :class:`~sklearn.utils.Bunch`
+        videos : :class:`SimulatedPressVideos` of length n_samples
+            Lazy sequence of ``(T_i, H, W, 3)`` ``uint8`` videos (``T_i``
+            differs between presses).
+        target : ndarray of shape (n_samples,), int
+            Object (class) index, 0 = softest.
+        target_names : ndarray of str
+        hardness : ndarray of shape (n_classes,)
+            Nominal hardness of each class, in ``hardness_unit``.
+        hardness_unit : str
+            ``"mm/N"`` (compliance: larger is softer) or ``"Shore 00"``.
+        force, timestamps : list of ndarray of shape (T_i,)
+            Recorded force (N, with sensor noise) and frame times (s).
+        object_id : ndarray of str
+            Which physical object was pressed.
+        press_params : dict of ndarray of shape (n_samples,)
+            Sampled press parameters: ``F_push``, ``v_push``, ``force_lag``,
+            ``hold``, ``retreat_speed``, ``compliance_object`` (this press),
+            ``compliance_gel``, ``dome_radius``, ``sensor``, ``offset_x``,
+            ``offset_y`` (mm), ``n_before``, ``n_after``, ``force_peak``
+            (true peak force), ``t_contact``, ``t_trigger``, ``t_release`` (s).
+        fps : float
+        params : dict
+            All physical parameters used.
+        mechanics : list of dict, only if ``return_mechanics=True``
+        DESCR : str
+
+    Raises
+    ------
+    ValueError
+        Unknown preset, out-of-range parameter or ``image_size``.
+    TypeError
+        Unknown parameter name or wrongly typed value.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.datasets import make_presses
+    >>> data = make_presses("silicone5", n_per_class=2, image_size=(48, 64), random_state=0)
+    >>> len(data.videos), data.target_names[0], data.hardness_unit
+    (10, '1.13 mm/N', 'mm/N')
+    >>> video = data.videos[0]
+    >>> video.shape[1:], video.dtype, len(data.force[0]) == len(video)
+    ((48, 64, 3), dtype('uint8'), True)
+    """
+    params = resolve_params(preset, physics)
+    image_size = _check_image_size(image_size)
+    if not isinstance(markers, (bool, np.bool_)):
+        raise TypeError(f"markers must be a bool, got {markers!r}.")
+    if n_per_class is None:
+        n_per_class = params["n_per_class"]
+    if isinstance(n_per_class, (bool, np.bool_)) or not isinstance(n_per_class, (numbers.Integral, np.integer)):
+        raise TypeError(f"n_per_class must be a positive integer or None, got {n_per_class!r}.")
+    if not 1 <= n_per_class <= 100_000:
+        raise ValueError(f"n_per_class={n_per_class} is out of range: it must lie in [1, 100000].")
+    n_per_class = int(n_per_class)
+
+    hardness = params["hardness"]
+    n_classes = len(hardness)
+    n = n_classes * n_per_class
+    ss = _seed_sequence(random_state)
+    ss_sensor, ss_object, ss_press, ss_order = ss.spawn(4)
+
+    # Sensors: gel compliance and dome radius vary a little between sensors.
+    n_sensors = params["n_sensors"]
+    sensor_rng = np.random.default_rng(ss_sensor)
+    spread = params["sensor_spread"]
+    gel_c = params["gel_compliance"] * np.exp(spread * sensor_rng.standard_normal(n_sensors))
+    dome_r = params["dome_radius"] * np.exp(spread * sensor_rng.standard_normal(n_sensors))
+    sensor_seeds = [_seed_int(s) for s in ss_sensor.spawn(n_sensors)]
+
+    # Objects: each cast's true compliance differs a little from its nominal value.
+    nominal = object_compliance(preset, hardness, params["dome_radius"])
+    obj_rng = np.random.default_rng(ss_object)
+    cast = nominal * np.exp(params["object_spread"] * obj_rng.standard_normal(n_classes))
+
+    target = np.repeat(np.arange(n_classes), n_per_class)
+    if shuffle:
+        target = target[np.random.default_rng(ss_order).permutation(n)]
+
+    keys = ["F_push", "v_push", "force_lag", "hold", "retreat_speed", "compliance_object",
+            "compliance_gel", "dome_radius", "sensor", "offset_x", "offset_y", "n_before",
+            "n_after", "force_peak", "t_contact", "t_trigger", "t_release"]
+    pp = {k: np.empty(n) for k in keys}
+    mechanics, centers, render_seeds = [], [], []
+    for i, (cls, press_ss) in enumerate(zip(target, ss_press.spawn(n))):
+        mech_ss, render_ss = press_ss.spawn(2)
+        rng = np.random.default_rng(mech_ss)
+        s = int(rng.integers(n_sensors))
+        c_obj = cast[cls] * np.exp(params["press_spread"] * rng.standard_normal())
+        f_push = rng.uniform(*params["force_range"])
+        v_push = rng.uniform(*params["speed_range"])
+        lag = rng.uniform(*params["force_lag_range"])
+        hold = rng.uniform(*params["hold_range"])
+        ret = rng.uniform(*params["retreat_speed_ratio"])
+        n_before = int(rng.integers(params["frames_before_range"][0], params["frames_before_range"][1] + 1))
+        n_after = int(rng.integers(params["frames_after_range"][0], params["frames_after_range"][1] + 1))
+        offset = rng.normal(0.0, params["contact_offset"], 2) if params["contact_offset"] > 0 else np.zeros(2)
+        frames, summary = simulate_press(
+            rng, c_gel=gel_c[s], c_obj=c_obj, dome_radius=dome_r[s], m=params["hertz_exponent"],
+            c_drive=params["drive_compliance"], f_push=f_push, v_push=v_push,
+            unevenness=params["speed_unevenness"], force_lag=lag, deceleration=params["deceleration"],
+            hold=hold, retreat_ratio=ret, fps=params["fps"], n_before=n_before, n_after=n_after,
+            timestamp_jitter=params["timestamp_jitter"], force_noise=params["force_noise"],
+            lateral_gain_object=params["lateral_gain_object"],
+            lateral_gain_gel=params["lateral_gain_gel"],
+        )
+        mechanics.append(frames)
+        centers.append((float(offset[0]), float(offset[1])))
+        render_seeds.append(_seed_int(render_ss))
+        row = dict(F_push=f_push, v_push=v_push, force_lag=lag, hold=hold, retreat_speed=ret * v_push,
+                   compliance_object=c_obj, compliance_gel=gel_c[s], dome_radius=dome_r[s], sensor=s,
+                   offset_x=offset[0], offset_y=offset[1], n_before=n_before, n_after=n_after, **summary)
+        for k in keys:
+            pp[k][i] = row[k]
+    for k in ("sensor", "n_before", "n_after"):
+        pp[k] = pp[k].astype(int)
+
+    sim = _Simulation(params, image_size, bool(markers), sensor_seeds, pp["sensor"], mechanics,
+                      centers, render_seeds)
+    unit = params["hardness_unit"]
+    if unit == "mm/N":
+        names = np.array([f"{h:.2f} mm/N" for h in hardness])
+    else:
+        names = np.array([f"{unit} {h:g}" for h in hardness])
+    data = Bunch(
+        videos=SimulatedPressVideos(sim, np.arange(n)),
+        target=target,
+        target_names=names,
+        hardness=hardness.copy(),
+        hardness_unit=unit,
+        force=[m["force"].copy() for m in mechanics],
+        timestamps=[m["time"].copy() for m in mechanics],
+        object_id=np.array([f"{preset}-object{c}" for c in target]),
+        press_params=pp,
+        fps=params["fps"],
+        params={k: v for k, v in params.items()},
+        DESCR=_descr(preset, params, n, image_size),
+    )
+    if return_mechanics:
+        data.mechanics = [{k: v.copy() for k, v in m.items() if k != "force"} for m in mechanics]
+    return data

@@ -1,0 +1,82 @@
+"""Helpers shared by the feature transformers: tags and per-sample intensity scaling."""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+_GREY_WEIGHTS = np.array([0.299, 0.587, 0.114], dtype=np.float32)  # ITU-R BT.601, RGB order
+
+
+def frames_tags(tags):
+    """Tags of a transformer taking selected frames (n, k, H, W, C).
+
+    The input is 5-D, not a 2-D table, so ``input_tags.two_d_array`` is
+    False: scikit-learn's common checks that feed 2-D data do not apply
+    (the tests run the data-independent ones and equivalents on 5-D data).
+    The output is float32 whatever the input dtype.
+    """
+    tags.input_tags.two_d_array = False
+    tags.input_tags.three_d_array = False
+    tags.input_tags.allow_nan = False
+    if tags.transformer_tags is not None:
+        tags.transformer_tags.preserves_dtype = ["float32"]
+    return tags
+
+
+def check_value_range(value_range):
+    """Validate a ``value_range`` parameter: None or (low, high) with low < high."""
+    if value_range is None:
+        return None
+    if (
+        not isinstance(value_range, (tuple, list))
+        or len(value_range) != 2
+        or not all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in value_range)
+        or not np.all(np.isfinite(value_range))
+        or not value_range[0] < value_range[1]
+    ):
+        raise ValueError(
+            f"value_range must be None (per-sample min-max scaling) or a pair (low, high) of "
+            f"finite numbers with low < high, e.g. (0, 1) or (-1, 1); got {value_range!r}."
+        )
+    return float(value_range[0]), float(value_range[1])
+
+
+def sample_range(X, value_range):
+    """Low and high intensity of each sample, shape (n,) each.
+
+    With ``value_range=None`` these are the minimum and maximum over all
+    frames, pixels and channels of the sample; flat samples get ``high =
+    low + 1`` so they map to a constant image instead of dividing by zero.
+    """
+    n = X.shape[0]
+    if value_range is not None:
+        lo, hi = check_value_range(value_range)
+        return np.full(n, lo, np.float32), np.full(n, hi, np.float32)
+    flat = X.reshape(n, -1)
+    lo = flat.min(axis=1).astype(np.float32)
+    hi = flat.max(axis=1).astype(np.float32)
+    hi = np.where(hi - lo > 0, hi, lo + 1.0).astype(np.float32)
+    return lo, hi
+
+
+def to_grey(X):
+    """(n, k, H, W, C) float -> (n, k, H, W) float32 grey (BT.601 weights for RGB)."""
+    if X.shape[-1] == 1:
+        return X[..., 0].astype(np.float32, copy=False)
+    return np.tensordot(X, _GREY_WEIGHTS, axes=([-1], [0])).astype(np.float32, copy=False)
+
+
+def to_uint8_grey(X, value_range):
+    """(n, k, H, W, C) float -> (n, k, H, W) uint8 grey with one scaling per sample."""
+    grey = to_grey(X)
+    # Grey is a convex combination of the channels, so the per-sample range of
+    # the colour frames also bounds the grey frames; use the grey range itself.
+    lo, hi = sample_range(grey, value_range)
+    out = np.empty(grey.shape, dtype=np.uint8)
+    for i in range(grey.shape[0]):  # per sample keeps the float temporaries small
+        g = (grey[i] - lo[i]) * (255.0 / (hi[i] - lo[i]))
+        np.clip(np.rint(g), 0, 255, out=g)
+        out[i] = g
+    return out

@@ -1,0 +1,433 @@
+"""Lucas-Kanade optical-flow features of selected press frames (the paper's OFNN input)."""
+
+from __future__ import annotations
+
+import numbers
+import warnings
+
+import cv2
+import numpy as np
+from joblib import Parallel, delayed
+from sklearn.base import BaseEstimator, TransformerMixin
+from sklearn.utils import Bunch
+from sklearn.utils.validation import check_is_fitted
+
+from ..utils._validation import check_frames_array, check_positive_int
+from ._common import frames_tags, to_uint8_grey, check_value_range
+
+__all__ = ["OpticalFlowFeatures"]
+
+_REFERENCES = ("first", "previous")
+_FILL_LOST = ("zero", "last")
+
+
+class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
+    """Displacements of Shi-Tomasi corners tracked by pyramidal Lucas-Kanade.
+
+    For every sample (the ``k`` selected frames of one press, as produced by
+    :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`), the
+    ``n_features`` strongest Shi-Tomasi corners of the first frame
+    (:func:`cv2.goodFeaturesToTrack`) are tracked through the following frames
+    with pyramidal Lucas-Kanade (:func:`cv2.calcOpticalFlowPyrLK`, frame to
+    frame), and their displacements are flattened into one fixed-length
+    vector. This is the input of the OFNN model of the paper (Sec. II-B).
+
+    Parameters
+    ----------
+    n_features : int, default=500
+        Number of corners (tracks) per sample. The paper uses the 500
+        strongest.
+    quality_level : float, default=0.001
+        Minimal corner quality relative to the best corner of the frame
+        (``qualityLevel`` of :func:`cv2.goodFeaturesToTrack`), in (0, 1].
+        The low default lets ``n_features`` decide, i.e. the strongest
+        ``n_features`` corners are kept even where strong features such as
+        the markers of a GelSight gel dominate (on GelSight-like 240x320
+        frames 0.01 leaves only the ~130 marker corners).
+    min_distance : float, default=5.0
+        Minimal distance in pixels between two corners.
+    block_size : int, default=7
+        Size of the neighbourhood used to compute the corner quality.
+    win_size : tuple of int (width, height), default=(15, 15)
+        Lucas-Kanade search window at each pyramid level.
+    max_level : int, default=2
+        Number of pyramid levels above the original image (0: no pyramid).
+    max_iter : int, default=30
+        Iterations of the Lucas-Kanade solver per level.
+    epsilon : float, default=0.01
+        Stops the Lucas-Kanade iterations when the update is below this (px).
+    reference : {"first", "previous"}, default="first"
+        ``"first"``: displacement of each tracked corner relative to its
+        position in the first frame (cumulative); ``"previous"``: relative to
+        the previous frame (increments). Tracking is frame to frame either way.
+    include_positions : bool, default=False
+        Whether to prepend each corner's start position ``(x0, y0)`` in pixels
+        to its displacements.
+    include_valid : bool, default=False
+        Whether to add, for each corner and frame, a column that is 1.0 where
+        the corner was found and tracked and 0.0 where the value is padding.
+    fill_lost : {"zero", "last"}, default="zero"
+        What a track that is lost (Lucas-Kanade status 0, or the point left the
+        image) gives in that and all later frames: ``"zero"`` displacement, or
+        the ``"last"`` displacement measured before it was lost (with
+        ``reference="previous"``, increments after the loss are zero either
+        way).
+    value_range : None or tuple of float (low, high), default=None
+        How frames are turned into the 8-bit grey images OpenCV tracks on.
+        RGB frames become grey first (ITU-R BT.601 weights, RGB order). With
+        ``None``, each sample is scaled by its own minimum and maximum over all
+        its ``k`` frames (one scaling per sample, so brightness changes between
+        its frames are kept); this handles raw frames in [0, 1] and
+        differences to the first frame in [-1, 1] alike. With ``(low, high)``
+        every sample is mapped by the same linear map ``low -> 0, high -> 255``
+        (values outside are clipped), e.g. ``(0, 1)`` or ``(-1, 1)``.
+    n_jobs : int or None, default=None
+        Number of joblib workers over samples (``None``: 1 unless in a
+        :func:`joblib.parallel_config` context; ``-1``: all cores). Threads
+        are preferred, as OpenCV releases the GIL.
+
+    Attributes
+    ----------
+    n_frames_in_ : int
+        Number of frames ``k`` per sample seen during :meth:`fit`.
+    frame_shape_in_ : tuple of int
+        Frame shape ``(H, W, C)`` seen during :meth:`fit`.
+    n_features_out_ : int
+        Length of the output vector.
+
+    See Also
+    --------
+    DINOv2Features : Frozen DINOv2 embeddings of the same frames.
+    sklearn_hardness.preprocessing.ContactFrameSelector : Produces the input.
+
+    Notes
+    -----
+    **Output layout.** Corners are ordered by decreasing corner quality
+    (minimal eigenvalue of the gradient covariance), ties broken by ``y``
+    then ``x`` position, so the order is stable for a given input. The row
+    of one sample is the concatenation over corners ``j = 0 .. n_features-1``
+    of the block::
+
+        [x0_j, y0_j]                         (if include_positions)
+        for t = 1 .. k-1: [dx_jt, dy_jt]     (+ [valid_jt] if include_valid)
+
+    so without options its length is ``n_features * (k - 1) * 2`` and
+    ``X_out.reshape(n, n_features, k - 1, 2)`` gives the displacements in
+    pixels (x to the right, y down). :meth:`get_feature_names_out` names
+    every column (``"c0_t1_dx"``, ...).
+
+    **Padding.** Nothing is ever NaN. If a sample has fewer than
+    ``n_features`` corners (small or smooth frames, or a flat sample where
+    all frames are constant: no corners at all), the missing corners are
+    padded with zeros (position and displacements, ``valid = 0``). Lost
+    tracks follow ``fill_lost``. A :class:`UserWarning` gives the number of
+    samples padded and of lost tracks. :meth:`track` returns the raw tracks
+    with a validity mask for closer inspection.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.features import OpticalFlowFeatures
+    >>> rng = np.random.default_rng(0)
+    >>> texture = rng.random((40, 48)).astype(np.float32)
+    >>> frames = np.stack([np.roll(texture, s, axis=1) for s in range(3)])  # moves right
+    >>> X = frames[np.newaxis, ..., np.newaxis]          # (1 sample, 3 frames, 40, 48, 1)
+    >>> of = OpticalFlowFeatures(n_features=20, min_distance=3).fit(X)
+    >>> Xt = of.transform(X)
+    >>> Xt.shape
+    (1, 80)
+    >>> dx = Xt.reshape(1, 20, 2, 2)[0, :, -1, 0]        # x-displacement at the last frame
+    >>> float(np.round(np.median(dx), 1))
+    2.0
+    """
+
+    def __init__(
+        self,
+        n_features=500,
+        *,
+        quality_level=0.001,
+        min_distance=5.0,
+        block_size=7,
+        win_size=(15, 15),
+        max_level=2,
+        max_iter=30,
+        epsilon=0.01,
+        reference="first",
+        include_positions=False,
+        include_valid=False,
+        fill_lost="zero",
+        value_range=None,
+        n_jobs=None,
+    ):
+        self.n_features = n_features
+        self.quality_level = quality_level
+        self.min_distance = min_distance
+        self.block_size = block_size
+        self.win_size = win_size
+        self.max_level = max_level
+        self.max_iter = max_iter
+        self.epsilon = epsilon
+        self.reference = reference
+        self.include_positions = include_positions
+        self.include_valid = include_valid
+        self.fill_lost = fill_lost
+        self.value_range = value_range
+        self.n_jobs = n_jobs
+
+    # ------------------------------------------------------------------ params
+    def _check_params(self):
+        check_positive_int(self.n_features, "n_features")
+        if not isinstance(self.quality_level, numbers.Real) or not 0 < self.quality_level <= 1:
+            raise ValueError(f"quality_level must be a number in (0, 1], got {self.quality_level!r}.")
+        if not isinstance(self.min_distance, numbers.Real) or self.min_distance < 0:
+            raise ValueError(f"min_distance must be a number >= 0, got {self.min_distance!r}.")
+        check_positive_int(self.block_size, "block_size")
+        ws = self.win_size
+        if (
+            not isinstance(ws, (tuple, list))
+            or len(ws) != 2
+            or not all(isinstance(v, numbers.Integral) and not isinstance(v, bool) and v >= 3 for v in ws)
+        ):
+            raise ValueError(f"win_size must be a pair of integers >= 3 (width, height), got {ws!r}.")
+        check_positive_int(self.max_level, "max_level", minimum=0)
+        check_positive_int(self.max_iter, "max_iter")
+        if not isinstance(self.epsilon, numbers.Real) or self.epsilon <= 0:
+            raise ValueError(f"epsilon must be a positive number, got {self.epsilon!r}.")
+        if self.reference not in _REFERENCES:
+            raise ValueError(f"reference must be one of {_REFERENCES}, got {self.reference!r}.")
+        if self.fill_lost not in _FILL_LOST:
+            raise ValueError(f"fill_lost must be one of {_FILL_LOST}, got {self.fill_lost!r}.")
+        for name in ("include_positions", "include_valid"):
+            if not isinstance(getattr(self, name), (bool, np.bool_)):
+                raise TypeError(f"{name} must be True or False, got {getattr(self, name)!r}.")
+        check_value_range(self.value_range)
+
+    # --------------------------------------------------------------- sklearn API
+    def fit(self, X, y=None):
+        """Check the parameters and remember the number and shape of frames.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_samples, k, H, W, C)
+            Selected frames, ``k >= 2``, ``C`` in {1, 3}.
+        y : None
+            Ignored.
+
+        Returns
+        -------
+        self : OpticalFlowFeatures
+        """
+        self._check_params()
+        X = _check_X(X)
+        self.n_frames_in_ = int(X.shape[1])
+        self.frame_shape_in_ = tuple(int(s) for s in X.shape[2:])
+        self.n_features_out_ = self._row_length(self.n_frames_in_)
+        return self
+
+    def track(self, X):
+        """Detect and track the corners of each sample.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_samples, k, H, W, C)
+            Selected frames with the ``k`` and frame shape seen in :meth:`fit`.
+
+        Returns
+        -------
+        tracks : :class:`~sklearn.utils.Bunch`
+            ``points`` (n_samples, n_features, k, 2) float32 ``(x, y)`` pixel
+            positions, zero where ``valid`` is False; ``valid`` (n_samples,
+            n_features, k) bool, True where the corner exists and was tracked
+            up to that frame; ``quality`` (n_samples, n_features) float32
+            corner quality (0 for padding); ``n_corners`` (n_samples,) int,
+            corners found in the first frame.
+        """
+        check_is_fitted(self)
+        self._check_params()
+        X = _check_X(X, n_frames=self.n_frames_in_, frame_shape=self.frame_shape_in_)
+        grey = to_uint8_grey(X, self.value_range)
+        kwargs = dict(
+            n_features=int(self.n_features),
+            quality_level=float(self.quality_level),
+            min_distance=float(self.min_distance),
+            block_size=int(self.block_size),
+            win_size=tuple(int(v) for v in self.win_size),
+            max_level=int(self.max_level),
+            criteria=(cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, int(self.max_iter), float(self.epsilon)),
+        )
+        if self.n_jobs is None or self.n_jobs == 1:
+            results = [_track_one(g, **kwargs) for g in grey]
+        else:
+            # OpenCV releases the GIL: threads parallelise without copying frames
+            # (a joblib.parallel_config backend overrides this preference).
+            results = Parallel(n_jobs=self.n_jobs, prefer="threads")(
+                delayed(_track_one)(g, **kwargs) for g in grey
+            )
+        points, valid, quality, n_corners = zip(*results)
+        return Bunch(
+            points=np.stack(points),
+            valid=np.stack(valid),
+            quality=np.stack(quality),
+            n_corners=np.asarray(n_corners, dtype=np.intp),
+        )
+
+    def transform(self, X):
+        """Compute the flattened displacement vector of each sample.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_samples, k, H, W, C)
+            Selected frames with the ``k`` and frame shape seen in :meth:`fit`.
+
+        Returns
+        -------
+        X_out : ndarray of shape (n_samples, n_features_out_), float32
+            See the Notes of the class for the layout. Never NaN.
+
+        Warns
+        -----
+        UserWarning
+            If some samples have fewer corners than ``n_features`` (padded
+            with zeros) or tracks were lost.
+        """
+        tr = self.track(X)
+        n, m, k = tr.valid.shape
+        points, valid = tr.points, tr.valid
+        # Displacement relative to the first frame, zeros where not valid.
+        disp = np.where(valid[..., None], points - points[:, :, :1], 0.0).astype(np.float32)
+        if self.fill_lost == "last":
+            disp = _hold_last(disp, valid)
+        if self.reference == "previous":
+            disp = np.diff(disp, axis=2, prepend=disp[:, :, :1])
+        blocks = []
+        if self.include_positions:
+            blocks.append(points[:, :, 0, :])  # zero for padded corners
+        steps = disp[:, :, 1:, :]
+        if self.include_valid:
+            steps = np.concatenate([steps, valid[:, :, 1:, None].astype(np.float32)], axis=-1)
+        blocks.append(steps.reshape(n, m, -1))
+        out = np.concatenate(blocks, axis=-1).reshape(n, -1).astype(np.float32, copy=False)
+
+        n_padded = int(np.sum(tr.n_corners < m))
+        exists = valid[:, :, 0]
+        n_lost = int(np.sum(exists & ~valid[:, :, -1]))
+        if n_padded or n_lost:
+            parts = []
+            if n_padded:
+                parts.append(
+                    f"{n_padded} of {n} sample(s) had fewer than n_features={m} corners "
+                    f"(fewest: {int(tr.n_corners.min())}); the missing corners are padded with zeros"
+                )
+            if n_lost:
+                parts.append(
+                    f"{n_lost} of {int(exists.sum())} track(s) were lost before the last frame; "
+                    f"fill_lost={self.fill_lost!r} applies"
+                )
+            warnings.warn(
+                "OpticalFlowFeatures: " + "; ".join(parts)
+                + ". Use include_valid=True to give the mask to the classifier.",
+                UserWarning,
+                stacklevel=2,
+            )
+        return out
+
+    def get_feature_names_out(self, input_features=None):
+        """Names of the output columns, e.g. ``"c0_t1_dx"``.
+
+        Parameters
+        ----------
+        input_features : None
+            Ignored (the input is not tabular).
+
+        Returns
+        -------
+        names : ndarray of str of shape (n_features_out_,)
+        """
+        check_is_fitted(self)
+        names = []
+        for j in range(self.n_features):
+            if self.include_positions:
+                names += [f"c{j}_x0", f"c{j}_y0"]
+            for t in range(1, self.n_frames_in_):
+                names += [f"c{j}_t{t}_dx", f"c{j}_t{t}_dy"]
+                if self.include_valid:
+                    names.append(f"c{j}_t{t}_valid")
+        return np.asarray(names, dtype=object)
+
+    def __sklearn_tags__(self):
+        tags = frames_tags(super().__sklearn_tags__())
+        return tags
+
+    def _row_length(self, k):
+        per_corner = 2 * int(self.include_positions) + (k - 1) * (2 + int(self.include_valid))
+        return int(self.n_features) * per_corner
+
+
+def _check_X(X, n_frames=None, frame_shape=None):
+    X = check_frames_array(X, name="X", n_frames=n_frames, frame_shape=frame_shape)
+    if X.shape[1] < 2:
+        raise ValueError(
+            f"OpticalFlowFeatures needs at least 2 frames per sample to measure motion; "
+            f"X has shape {X.shape}."
+        )
+    return X
+
+
+def _track_one(grey, *, n_features, quality_level, min_distance, block_size, win_size, max_level, criteria):
+    """Track the corners of one sample: grey (k, H, W) uint8 -> padded arrays."""
+    k, H, W = grey.shape
+    points = np.zeros((n_features, k, 2), dtype=np.float32)
+    valid = np.zeros((n_features, k), dtype=bool)
+    quality = np.zeros(n_features, dtype=np.float32)
+    corners, q = cv2.goodFeaturesToTrackWithQuality(
+        grey[0], n_features, quality_level, min_distance, None, blockSize=block_size
+    )
+    if corners is None or len(corners) == 0:
+        return points, valid, quality, 0
+    corners = corners.reshape(-1, 2).astype(np.float32)
+    q = q.reshape(-1).astype(np.float32)
+    # Stable order: strongest first, then by row (y), then by column (x).
+    order = np.lexsort((corners[:, 0], corners[:, 1], -q))
+    corners, q = corners[order], q[order]
+    m = len(corners)
+    points[:m, 0] = corners
+    valid[:m, 0] = True
+    quality[:m] = q
+    alive = np.ones(m, dtype=bool)
+    prev = corners
+    for t in range(1, k):
+        idx = np.flatnonzero(alive)
+        if idx.size == 0:
+            break
+        nxt, status, _ = cv2.calcOpticalFlowPyrLK(
+            grey[t - 1],
+            grey[t],
+            prev[idx].reshape(-1, 1, 2),
+            None,
+            winSize=win_size,
+            maxLevel=max_level,
+            criteria=criteria,
+        )
+        nxt = nxt.reshape(-1, 2)
+        ok = (
+            (status.reshape(-1) == 1)
+            & np.isfinite(nxt).all(axis=1)
+            & (nxt[:, 0] >= 0) & (nxt[:, 0] <= W - 1)
+            & (nxt[:, 1] >= 0) & (nxt[:, 1] <= H - 1)
+        )
+        alive[idx[~ok]] = False
+        good = idx[ok]
+        prev = prev.copy()
+        prev[good] = nxt[ok]
+        points[good, t] = nxt[ok]
+        valid[good, t] = True
+    return points, valid, quality, m
+
+
+def _hold_last(disp, valid):
+    """Carry the last valid displacement of each track forward over lost frames."""
+    n, m, k, _ = disp.shape
+    t_idx = np.arange(k)
+    last = np.where(valid, t_idx, 0)
+    last = np.maximum.accumulate(last, axis=2)
+    return np.take_along_axis(disp, last[..., None].repeat(2, axis=-1), axis=2)

@@ -1,0 +1,300 @@
+"""ConvLSTM network (Shi et al. 2015) and ConvLSTMClassifier."""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+import torch
+
+from ..utils._validation import check_frames_array, check_positive_int
+from ._mc_dropout import MCDropout, MCDropoutClassifierBase
+
+__all__ = ["ConvLSTMLayer", "ConvLSTMNet", "ConvLSTMClassifier"]
+
+
+class ConvLSTMLayer(torch.nn.Module):
+    """One ConvLSTM layer over a sequence of feature maps.
+
+    Gates (input ``i``, forget ``f``, output ``o``, candidate ``g``) are
+    convolutions of the input and of the previous hidden state::
+
+        [i, f, g, o] = W_x * x_t + W_h * h_{t-1} + b
+        c_t = sigmoid(f) c_{t-1} + sigmoid(i) tanh(g)
+        h_t = sigmoid(o) tanh(c_t)
+
+    The input convolution ``W_x * x_t`` does not depend on the recurrence,
+    so it runs once for all time steps (one batched call); only ``W_h * h``
+    runs per step. The forget-gate bias starts at 1 (as Keras'
+    ``unit_forget_bias``).
+
+    Parameters
+    ----------
+    in_channels : int
+        Channels of the input maps.
+    hidden_channels : int
+        Channels (filters) of the hidden state.
+    kernel_size : int, default=3
+        Odd convolution size; padding keeps the spatial size.
+    """
+
+    def __init__(self, in_channels, hidden_channels, kernel_size=3):
+        super().__init__()
+        if kernel_size % 2 != 1:
+            raise ValueError(f"kernel_size must be odd, got {kernel_size}.")
+        pad = kernel_size // 2
+        self.hidden_channels = int(hidden_channels)
+        self.input_conv = torch.nn.Conv2d(in_channels, 4 * hidden_channels, kernel_size, padding=pad)
+        self.hidden_conv = torch.nn.Conv2d(
+            hidden_channels, 4 * hidden_channels, kernel_size, padding=pad, bias=False
+        )
+        with torch.no_grad():
+            self.input_conv.bias.zero_()
+            self.input_conv.bias[hidden_channels : 2 * hidden_channels] = 1.0
+
+    def project_input(self, x):
+        """``W_x * x_t + b`` for all steps: (B, T, C, H, W) -> (B, T, 4h, H, W)."""
+        B, T, C, H, W = x.shape
+        return self.input_conv(x.reshape(B * T, C, H, W)).reshape(B, T, -1, H, W)
+
+    def recur(self, xp, return_sequence=True):
+        """Run the recurrence on projected inputs ``xp`` (B, T, 4h, H, W).
+
+        Returns the hidden states (B, T, h, H, W), or only the last one
+        (B, h, H, W) when ``return_sequence`` is False.
+        """
+        B, T, _, H, W = xp.shape
+        hc = self.hidden_channels
+        h = c = None
+        outs = []
+        for t in range(T):
+            gates = xp[:, t] if h is None else xp[:, t] + self.hidden_conv(h)
+            i, f, g, o = torch.split(gates, hc, dim=1)
+            i, f, o, g = torch.sigmoid(i), torch.sigmoid(f), torch.sigmoid(o), torch.tanh(g)
+            c = i * g if c is None else f * c + i * g
+            h = o * torch.tanh(c)
+            if return_sequence:
+                outs.append(h)
+        return torch.stack(outs, dim=1) if return_sequence else h
+
+    def forward(self, x, return_sequence=True):
+        return self.recur(self.project_input(x), return_sequence=return_sequence)
+
+
+class ConvLSTMNet(torch.nn.Module):
+    """Stacked ConvLSTM layers with dropout after each, and a linear head.
+
+    Input (B, k, H, W, C) channels-last (as produced by
+    :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`), permuted
+    to channels-first inside. Each layer returns its whole hidden sequence
+    to the next one; the last layer's final hidden state (after dropout) is
+    averaged over space and mapped to class logits by a linear layer, so the
+    net works at any frame size.
+
+    Parameters
+    ----------
+    in_channels : int
+        Colour channels of the frames (1 or 3).
+    n_classes : int
+        Number of classes.
+    filters : tuple of int, default=(4, 8, 14, 16)
+        Hidden channels of each ConvLSTM layer (the paper's 4 layers).
+    kernel_size : int, default=3
+        Convolution size of every layer.
+    dropout : float, default=0.2
+        Dropout probability after each layer.
+    input_shape : tuple of int or None, default=None
+        The (k, H, W, C) seen during fit, kept as a buffer so saved
+        parameters remember it; not used in the computation.
+    """
+
+    def __init__(
+        self, in_channels, n_classes, filters=(4, 8, 14, 16), kernel_size=3, dropout=0.2, input_shape=None
+    ):
+        super().__init__()
+        filters = tuple(int(f) for f in filters)
+        chans = (int(in_channels),) + filters
+        self.layers = torch.nn.ModuleList(
+            ConvLSTMLayer(chans[i], chans[i + 1], kernel_size) for i in range(len(filters))
+        )
+        self.dropouts = torch.nn.ModuleList(MCDropout(dropout) for _ in filters)
+        self.head = torch.nn.Linear(filters[-1], int(n_classes))
+        shape = torch.tensor(input_shape if input_shape is not None else [-1, -1, -1, in_channels])
+        self.register_buffer("input_shape", shape.to(torch.int64))
+
+    def forward(self, X, n_replicas=1):
+        """Logits (n_replicas * B, n_classes), replica-major.
+
+        The first layer's input convolution is deterministic; it is computed
+        once per input and tiled ``n_replicas`` times. Everything after the
+        first dropout must run per replica.
+        """
+        x = X.permute(0, 1, 4, 2, 3)  # (B, T, C, H, W)
+        first = self.layers[0]
+        xp = first.project_input(x)
+        if n_replicas > 1:
+            xp = xp.repeat(n_replicas, 1, 1, 1, 1)
+        n = len(self.layers)
+        seq = first.recur(xp, return_sequence=n > 1)
+        seq = self.dropouts[0](seq)
+        for li in range(1, n):
+            seq = self.layers[li](seq, return_sequence=li < n - 1)
+            seq = self.dropouts[li](seq)
+        return self.head(seq.mean(dim=(-2, -1)))
+
+
+class ConvLSTMClassifier(MCDropoutClassifierBase):
+    """ConvLSTM classifier on selected frames with MC dropout (the paper's ConvLSTM).
+
+    Four ConvLSTM layers with 4, 8, 14 and 16 filters (3x3), dropout after
+    each, then global average pooling of the last hidden state and a linear
+    layer, trained end to end on (n, k, H, W, C) float32 frames, e.g. the
+    output of :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`.
+    Small frames are enough and much faster: see the ``output_size`` of the
+    frame selector and ``benchmarks/bench_convlstm.py``.
+
+    Parameters
+    ----------
+    module : torch.nn.Module class, default=ConvLSTMNet
+        Network; built at fit with ``in_channels``, ``n_classes``,
+        ``filters``, ``kernel_size``, ``dropout`` and ``input_shape``. Its
+        ``forward`` takes ``(X, n_replicas=1)``.
+    filters : tuple of int, default=(4, 8, 14, 16)
+        Hidden channels of the ConvLSTM layers.
+    kernel_size : int, default=3
+        Convolution size.
+    dropout : float, default=0.2
+        Dropout probability after each ConvLSTM layer. A plain parameter, so
+        ``GridSearchCV(pipe, {"clf__dropout": [...]})`` works.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the initial weights, the shuffling and the training dropout
+        masks (without touching torch's global generator).
+    criterion : torch criterion class, default=torch.nn.CrossEntropyLoss
+    optimizer : torch optimizer class, default=torch.optim.Adam
+    lr : float, default=1e-3
+    max_epochs : int, default=100
+        Epochs of :meth:`fit`: the paper's initial training on its robot
+        data; continue with ``partial_fit(X, y, epochs=50)``.
+    batch_size : int, default=8
+    train_split : callable or None, default=None
+        None trains on all of ``X`` (as the paper does).
+    classes : array-like or None, default=None
+        All labels, if ``y`` may not contain every class.
+    verbose : int, default=0
+    device : {"cpu", "cuda", "auto"} or str, default="cpu"
+    **kwargs
+        Other skorch parameters.
+
+    Attributes
+    ----------
+    classes_ : ndarray of shape (n_classes,)
+    n_frames_in_ : int
+        Frames per sample seen during fit.
+    frame_shape_ : tuple of int
+        (H, W, C) seen during fit.
+    module_ : ConvLSTMNet
+    history_ : skorch.History
+    final_train_loss_ : float
+        Training loss of the last epoch; the paper calls a run with a loss
+        above 1 after initial training not converged
+        (:func:`sklearn_hardness.models.is_converged`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.models import ConvLSTMClassifier
+    >>> rng = np.random.default_rng(0)
+    >>> X = rng.normal(size=(8, 3, 8, 10, 1)).astype("float32")
+    >>> y = np.array([0, 1] * 4)
+    >>> clf = ConvLSTMClassifier(max_epochs=2, random_state=0).fit(X, y)
+    >>> clf.predict_proba_samples(X[:2], n_samples=5, random_state=0).shape
+    (5, 2, 2)
+    """
+
+    def __init__(
+        self,
+        module=ConvLSTMNet,
+        *,
+        filters=(4, 8, 14, 16),
+        kernel_size=3,
+        dropout=0.2,
+        random_state=None,
+        criterion=torch.nn.CrossEntropyLoss,
+        optimizer=torch.optim.Adam,
+        lr=1e-3,
+        max_epochs=100,
+        batch_size=8,
+        train_split=None,
+        classes=None,
+        verbose=0,
+        device="cpu",
+        **kwargs,
+    ):
+        super().__init__(
+            module,
+            dropout=dropout,
+            random_state=random_state,
+            criterion=criterion,
+            optimizer=optimizer,
+            lr=lr,
+            max_epochs=max_epochs,
+            batch_size=batch_size,
+            train_split=train_split,
+            classes=classes,
+            verbose=verbose,
+            device=device,
+            **kwargs,
+        )
+        self.filters = filters
+        self.kernel_size = kernel_size
+
+    def _check_X(self, X, reset):
+        if reset:
+            X = check_frames_array(X)
+            self.n_frames_in_ = int(X.shape[1])
+            self.frame_shape_ = tuple(int(s) for s in X.shape[2:])
+            return X
+        if self.n_frames_in_ is None:  # loaded from parameters without the shape
+            X = check_frames_array(X)
+            if X.shape[-1] != self.frame_shape_[-1]:
+                raise ValueError(
+                    f"X has {X.shape[-1]} channel(s) but the net was trained on "
+                    f"{self.frame_shape_[-1]}."
+                )
+            return X
+        return check_frames_array(X, n_frames=self.n_frames_in_, frame_shape=self.frame_shape_)
+
+    def _has_input_meta(self):
+        return hasattr(self, "frame_shape_") and (
+            self.classes is not None or hasattr(self, "classes_inferred_")
+        )
+
+    def _module_defaults(self):
+        filters = tuple(self.filters)
+        if not filters or any(
+            isinstance(f, bool) or not isinstance(f, numbers.Integral) or f < 1 for f in filters
+        ):
+            raise ValueError(f"filters must be a non-empty tuple of positive ints, got {self.filters!r}.")
+        ks = check_positive_int(self.kernel_size, "kernel_size")
+        shape = (self.n_frames_in_ or -1,) + tuple(s if s is not None else -1 for s in self.frame_shape_)
+        return {
+            "in_channels": self.frame_shape_[-1],
+            "n_classes": len(self.classes_),
+            "filters": filters,
+            "kernel_size": ks,
+            "dropout": self.dropout,
+            "input_shape": shape,
+        }
+
+    def _meta_from_state_dict(self, state_dict):
+        shape = [int(s) for s in state_dict["input_shape"].tolist()]
+        self.n_frames_in_ = shape[0] if shape[0] > 0 else None
+        self.frame_shape_ = tuple(shape[1:]) if shape[1] > 0 else (None, None, shape[3])
+        return int(state_dict["head.weight"].shape[0])
+
+    def _mc_bytes_per_row(self, X):
+        k, H, W, C = X.shape[1:]
+        chans = (C,) + tuple(int(f) for f in self.filters)
+        # per layer: input sequence + projected input (4h) + output sequence (h)
+        per_step = max(chans[i] + 5 * chans[i + 1] for i in range(len(chans) - 1))
+        return 4 * k * H * W * per_step

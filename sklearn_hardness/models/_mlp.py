@@ -1,0 +1,232 @@
+"""MLP head on fixed features: OFNNClassifier and DINOv2NNClassifier."""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+from sklearn.utils.validation import check_array
+
+from ..utils._validation import check_positive_int
+from ._mc_dropout import MCDropout, MCDropoutClassifierBase
+
+__all__ = ["MLPHead", "OFNNClassifier", "DINOv2NNClassifier"]
+
+
+class MLPHead(torch.nn.Module):
+    """Two-layer classifier head: Linear -> ReLU -> dropout -> Linear.
+
+    This is the paper's "2-layer NN with 128 neurons in the hidden layer,
+    followed by a dropout layer". It returns logits.
+
+    Parameters
+    ----------
+    input_dim : int
+        Number of input features.
+    n_classes : int
+        Number of classes (output logits).
+    hidden_units : int, default=128
+        Width of the hidden layer.
+    dropout : float, default=0.2
+        Dropout probability after the hidden layer.
+    """
+
+    def __init__(self, input_dim, n_classes, hidden_units=128, dropout=0.2):
+        super().__init__()
+        self.hidden = torch.nn.Linear(int(input_dim), int(hidden_units))
+        self.dropout = MCDropout(dropout)
+        self.out = torch.nn.Linear(int(hidden_units), int(n_classes))
+
+    def forward(self, X, n_replicas=1):
+        """Logits of shape (n_replicas * n, n_classes).
+
+        The hidden activations (deterministic) are computed once and tiled
+        ``n_replicas`` times (replica-major) before dropout, so MC passes only
+        re-run dropout and the output layer.
+        """
+        h = torch.relu(self.hidden(X))
+        if n_replicas > 1:
+            h = h.repeat(n_replicas, 1)
+        return self.out(self.dropout(h))
+
+
+class _MLPClassifier(MCDropoutClassifierBase):
+    def __init__(
+        self,
+        module=MLPHead,
+        *,
+        hidden_units=128,
+        dropout=0.2,
+        random_state=None,
+        criterion=torch.nn.CrossEntropyLoss,
+        optimizer=torch.optim.Adam,
+        lr=1e-3,
+        max_epochs=50,
+        batch_size=32,
+        train_split=None,
+        classes=None,
+        verbose=0,
+        device="cpu",
+        **kwargs,
+    ):
+        super().__init__(
+            module,
+            dropout=dropout,
+            random_state=random_state,
+            criterion=criterion,
+            optimizer=optimizer,
+            lr=lr,
+            max_epochs=max_epochs,
+            batch_size=batch_size,
+            train_split=train_split,
+            classes=classes,
+            verbose=verbose,
+            device=device,
+            **kwargs,
+        )
+        self.hidden_units = hidden_units
+
+    def _check_X(self, X, reset):
+        if hasattr(X, "ndim") and X.ndim != 2 or (not hasattr(X, "ndim") and np.ndim(X) != 2):
+            shape = np.shape(X)
+            raise ValueError(
+                f"{type(self).__name__} expects a 2-D array of features (n_samples, n_features); "
+                f"got shape {shape}. Turn selected frames (n, k, H, W, C) into features first "
+                "(OpticalFlowFeatures or DINOv2Features), or use ConvLSTMClassifier."
+            )
+        X = check_array(X, dtype=np.float32, ensure_all_finite=True, input_name="X")
+        if reset:
+            self.n_features_in_ = X.shape[1]
+        elif X.shape[1] != self.n_features_in_:
+            raise ValueError(
+                f"X has {X.shape[1]} features, but {type(self).__name__} was fitted with "
+                f"{self.n_features_in_} features."
+            )
+        return X
+
+    def _has_input_meta(self):
+        return hasattr(self, "n_features_in_") and (
+            self.classes is not None or hasattr(self, "classes_inferred_")
+        )
+
+    def _module_defaults(self):
+        return {
+            "input_dim": self.n_features_in_,
+            "n_classes": len(self.classes_),
+            "hidden_units": check_positive_int(self.hidden_units, "hidden_units"),
+            "dropout": self.dropout,
+        }
+
+    def _meta_from_state_dict(self, state_dict):
+        self.n_features_in_ = int(state_dict["hidden.weight"].shape[1])
+        return int(state_dict["out.weight"].shape[0])
+
+    def _mc_bytes_per_row(self, X):
+        # hidden activations, mask and product per replicated row
+        return 4 * (3 * int(self.hidden_units) + 2 * len(self.classes_))
+
+
+_MLP_PARAMS_DOC = """
+    Parameters
+    ----------
+    module : torch.nn.Module class, default=MLPHead
+        Network; built at fit with ``input_dim``, ``n_classes``,
+        ``hidden_units`` and ``dropout``. Its ``forward`` takes
+        ``(X, n_replicas=1)``.
+    hidden_units : int, default=128
+        Width of the hidden layer (128 in the paper).
+    dropout : float, default=0.2
+        Dropout probability after the hidden layer (0.2 in the paper). A plain
+        parameter, so ``GridSearchCV(pipe, {"clf__dropout": [...]})`` works;
+        setting it on a fitted net changes the live dropout layers.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the initial weights, the shuffling and the training dropout
+        masks (without touching torch's global generator). ``None`` uses
+        torch's global generator.
+    criterion : torch criterion class, default=torch.nn.CrossEntropyLoss
+        The module returns logits; ``predict_proba`` applies softmax.
+    optimizer : torch optimizer class, default=torch.optim.Adam
+    lr : float, default=1e-3
+    max_epochs : int, default=50
+        Epochs of :meth:`fit` (the paper trains the heads for 50 epochs
+        initially, then 25 per active-sampling round via
+        ``partial_fit(X, y, epochs=25)``).
+    batch_size : int, default=32
+    train_split : callable or None, default=None
+        None trains on all of ``X`` (as the paper does); see skorch.
+    classes : array-like or None, default=None
+        All labels, if ``y`` may not contain every class.
+    verbose : int, default=0
+    device : {"cpu", "cuda", "auto"} or str, default="cpu"
+        ``"auto"`` picks CUDA when available.
+    **kwargs
+        Other skorch parameters (``callbacks``, ``iterator_train__*``,
+        ``optimizer__*``, ``module__*``, ``warm_start``...).
+
+    Attributes
+    ----------
+    classes_ : ndarray of shape (n_classes,)
+        Class labels.
+    n_features_in_ : int
+        Number of features seen during fit.
+    module_ : MLPHead
+        The trained network.
+    history_ : skorch.History
+        Per-epoch training loss (``train_loss``).
+    final_train_loss_ : float
+        Training loss of the last epoch (see
+        :func:`sklearn_hardness.models.is_converged`).
+"""
+
+
+class OFNNClassifier(_MLPClassifier):
+    __doc__ = (
+        """Optical-flow features + MLP head with MC dropout (the paper's OFNN).
+
+    Input: 2-D features, e.g. the output of
+    :class:`sklearn_hardness.features.OpticalFlowFeatures` (flattened
+    Lucas-Kanade displacements). Standardising them (``StandardScaler``)
+    before the net helps. The head is Linear(d, 128) -> ReLU -> dropout ->
+    Linear(128, n_classes); :meth:`predict_proba_samples` gives MC-dropout
+    samples for uncertainty.
+"""
+        + _MLP_PARAMS_DOC
+        + """
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.models import OFNNClassifier
+    >>> rng = np.random.default_rng(0)
+    >>> X = rng.normal(size=(30, 20)).astype("float32")
+    >>> y = np.repeat(["soft", "medium", "hard"], 10)
+    >>> X[y == "hard"] += 2
+    >>> clf = OFNNClassifier(max_epochs=30, random_state=0).fit(X, y)
+    >>> clf.predict_proba_samples(X[:4], n_samples=10, random_state=0).shape
+    (10, 4, 3)
+"""
+    )
+
+
+class DINOv2NNClassifier(_MLPClassifier):
+    __doc__ = (
+        """DINOv2 features + MLP head with MC dropout (the paper's DINOv2NN).
+
+    Input: 2-D features, e.g. the output of
+    :class:`sklearn_hardness.features.DINOv2Features` (frozen DINOv2
+    embeddings of the selected frames, concatenated). The backbone is not
+    part of this net, so features are extracted once and MC sampling only
+    re-runs the head. Same head as :class:`OFNNClassifier`.
+"""
+        + _MLP_PARAMS_DOC
+        + """
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.models import DINOv2NNClassifier
+    >>> rng = np.random.default_rng(0)
+    >>> X = rng.normal(size=(30, 64)).astype("float32")
+    >>> y = np.repeat([0, 1, 2], 10)
+    >>> clf = DINOv2NNClassifier(max_epochs=5, random_state=0).fit(X, y)
+    >>> clf.predict_proba(X[:2]).shape
+    (2, 3)
+"""
+    )

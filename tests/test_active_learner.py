@@ -1,0 +1,383 @@
+"""ActiveLearner: Algorithm 1 (fit / query / teach on a capped reservoir)."""
+
+import numpy as np
+import pytest
+from sklearn.base import BaseEstimator, TransformerMixin, clone
+from sklearn.exceptions import NotFittedError
+from sklearn.pipeline import Pipeline, make_pipeline
+from sklearn.preprocessing import StandardScaler
+
+from sklearn_hardness.active import (
+    ActiveLearner,
+    PressOracle,
+    class_uncertainty,
+    entropy_sampling,
+    random_sampling,
+    variance_sampling,
+)
+from sklearn_hardness.active._learner import _concat_rows
+from sklearn_hardness.metrics import hardness_mae
+
+from _active_net import MCDropoutNet, make_blobs, make_net
+
+
+class CountingScaler(TransformerMixin, BaseEstimator):
+    """StandardScaler that counts fits and transformed rows (class-level counters)."""
+
+    n_fit = 0
+    n_rows_transformed = 0
+
+    def fit(self, X, y=None):
+        type(self).n_fit += 1
+        X = np.asarray(X, dtype=np.float32)
+        self.mean_, self.scale_ = X.mean(axis=0), X.std(axis=0) + 1e-6
+        return self
+
+    def transform(self, X):
+        X = np.asarray(X, dtype=np.float32)
+        type(self).n_rows_transformed += X.shape[0]
+        return (X - self.mean_) / self.scale_
+
+
+@pytest.fixture(scope="module")
+def data():
+    X, y = make_blobs(n_per_class=40, spread=1.2, seed=1)
+    oracle = PressOracle(X, y, random_state=0)
+    X0, y0 = oracle.initial(3)
+    X_test, y_test = oracle.press([0, 1, 2], 8)
+    return X0, y0, X_test, y_test, oracle
+
+
+def _pool(data, seed=1):
+    X, y = make_blobs(n_per_class=40, spread=1.2, seed=seed)
+    return PressOracle(X, y, random_state=seed)
+
+
+def test_algorithm_1_loop(data):
+    X0, y0, X_test, y_test, _ = data
+    oracle = _pool(data, seed=2)
+    learner = ActiveLearner(
+        make_net(), "variance", initial_epochs=6, epochs_per_query=3,
+        max_reservoir=12, n_mc_samples=10, random_state=0,
+    ).fit(X0, y0)
+    assert learner.initial_train_loss_ is not None and np.isfinite(learner.initial_train_loss_)
+    np.testing.assert_array_equal(learner.classes_, [0, 1, 2])
+    accs = [learner.score(X_test, y_test)]
+    for it in range(4):
+        idx, scores = learner.query(X_test)
+        assert idx.shape == (1,) and scores.shape == (3,)
+        X_new, y_new = oracle.press(learner.classes_[idx[0]], 3)
+        learner.teach(X_new, y_new)
+        accs.append(learner.score(X_test, y_test))
+    assert learner.n_iterations_ == 4
+    assert len(learner.reservoir_y_) == 9 + 4 * 3
+    events = [h["event"] for h in learner.history_]
+    assert events == ["fit"] + ["query", "teach"] * 4
+    teach = [h for h in learner.history_ if h["event"] == "teach"]
+    assert [h["reservoir_size"] for h in teach] == [12, 15, 18, 21]
+    assert [h["train_size"] for h in teach] == [12, 12, 12, 12]  # capped at M
+    assert all(np.isfinite(h["train_loss"]) for h in teach)
+    queries = [h for h in learner.history_ if h["event"] == "query"]
+    for h in queries:
+        # the strategy's scores are the recorded variance of the same MC passes
+        np.testing.assert_allclose(h["scores"], h["variance"])
+        assert h["entropy"].shape == h["bald"].shape == (3,)
+    assert learner.uncertainty_history("entropy").shape == (4,)
+    assert learner.uncertainty_history("variance", reduce=None).shape == (4, 3)
+    # the experiments' metrics can be read off directly
+    mae = hardness_mae(y_test, learner.predict(X_test), [1.13, 1.02, 0.79])
+    assert accs[-1] >= 0.8  # separable blobs: the loop trains a useful model
+    assert mae < 0.1
+
+
+def test_warm_start_and_training_subset_size(data):
+    X0, y0, X_test, _, oracle = data
+    learner = ActiveLearner(
+        make_net(batch_size=4), "entropy", initial_epochs=4, epochs_per_query=2,
+        max_reservoir=10, n_mc_samples=5, random_state=1,
+    ).fit(X0, y0)
+    net = learner.estimator_
+    assert len(net.history) == 4
+    first_weight = net.module_.net[0].weight.detach().clone()
+    X_new, y_new = make_blobs(n_per_class=2, seed=9)
+    learner.teach(X_new, y_new)  # reservoir 9 + 6 = 15 > M = 10
+    # partial_fit: the skorch history continues (a refit would restart it) ...
+    assert len(net.history) == 6
+    assert learner.estimator_ is net
+    # ... and the weights moved on from where they were
+    assert not np.allclose(net.module_.net[0].weight.detach(), first_weight)
+    # each of the 2 epochs saw exactly M = 10 samples
+    for epoch in net.history[-2:]:
+        assert sum(b["train_batch_size"] for b in epoch["batches"]) == 10
+    learner.teach(X_new[:3], y_new[:3])  # 18 > 10
+    assert sum(b["train_batch_size"] for b in net.history[-1]["batches"]) == 10
+
+
+def test_no_cap_trains_on_whole_reservoir(data):
+    X0, y0, _, _, _ = data
+    learner = ActiveLearner(make_net(batch_size=50), initial_epochs=2, epochs_per_query=1,
+                            random_state=0).fit(X0, y0)
+    X_new, y_new = make_blobs(n_per_class=4, seed=5)
+    learner.teach(X_new, y_new)
+    assert sum(b["train_batch_size"] for b in learner.estimator_.history[-1]["batches"]) == 21
+
+
+def test_estimator_is_cloned_not_modified(data):
+    X0, y0, _, _, _ = data
+    net = make_net()
+    learner = ActiveLearner(net, initial_epochs=2).fit(X0, y0)
+    assert learner.estimator_ is not net
+    assert not hasattr(net, "module_")
+    assert clone(learner).get_params()["initial_epochs"] == 2
+
+
+def test_random_state_makes_runs_reproducible(data):
+    X0, y0, X_test, _, _ = data
+
+    def run():
+        learner = ActiveLearner(make_net(), "bald", initial_epochs=3, epochs_per_query=2,
+                                max_reservoir=10, n_mc_samples=6, random_state=42).fit(X0, y0)
+        out = []
+        for _ in range(2):
+            idx, scores = learner.query(X_test)
+            X_new, y_new = make_blobs(n_per_class=1, seed=int(idx[0]))
+            learner.teach(X_new, y_new)
+            out.append((idx, scores, learner.history_[-1]["train_loss"]))
+        return out, learner.predict_proba(X_test)
+
+    (a, pa), (b, pb) = run(), run()
+    for (ia, sa, la), (ib, sb, lb) in zip(a, b):
+        np.testing.assert_array_equal(ia, ib)
+        np.testing.assert_allclose(sa, sb)
+        assert la == lb
+    np.testing.assert_allclose(pa, pb)
+
+
+def test_query_runs_mc_passes_once_and_strategy_reuses_them(data):
+    X0, y0, X_test, _, _ = data
+    learner = ActiveLearner(make_net(), entropy_sampling, initial_epochs=2, n_mc_samples=7,
+                            random_state=0).fit(X0, y0)
+    before = MCDropoutNet.n_mc_calls
+    idx, scores = learner.query(X_test, n_instances=2)
+    assert MCDropoutNet.n_mc_calls == before + 1
+    assert idx.shape == (2,)
+    np.testing.assert_allclose(scores, learner.history_[-1]["entropy"])
+
+
+def test_string_and_custom_strategies(data):
+    X0, y0, X_test, _, _ = data
+    for name in ["entropy", "variance", "bald", "random"]:
+        learner = ActiveLearner(make_net(), name, initial_epochs=1, n_mc_samples=3,
+                                random_state=0).fit(X0, y0)
+        idx, scores = learner.query(X_test)
+        assert 0 <= idx[0] < 3
+
+    def always_last(learner, X, n_instances=1):  # modAL-style, indices only
+        return np.arange(len(learner.classes_))[-n_instances:]
+
+    learner = ActiveLearner(make_net(), always_last, initial_epochs=1, n_mc_samples=3).fit(X0, y0)
+    idx, scores = learner.query(X_test)
+    assert idx.tolist() == [2] and scores is None
+    assert learner.history_[-1]["variance"].shape == (3,)  # still recorded
+
+    def bad(learner, X, n_instances=1):
+        return np.array([5])
+
+    learner.set_params(query_strategy=bad)
+    with pytest.raises(ValueError, match=r"class indices in \[0, 3\)"):
+        learner.query(X_test)
+
+
+def test_pipeline_fits_features_once_and_caches_them(data):
+    X0, y0, X_test, y_test, _ = data
+    shift = lambda X: X * 5 + 50  # noqa: E731  (the scaler matters)
+    X0s, X_tests = shift(X0), shift(X_test)
+    CountingScaler.n_fit = CountingScaler.n_rows_transformed = 0
+    pipe = Pipeline([("scale", CountingScaler()), ("net", make_net())])
+    learner = ActiveLearner(pipe, "variance", initial_epochs=3, epochs_per_query=2,
+                            max_reservoir=100, n_mc_samples=4, random_state=0).fit(X0s, y0)
+    assert CountingScaler.n_fit == 1
+    scaler = learner.estimator_.named_steps["scale"]
+    mean0 = scaler.mean_.copy()
+    # the reservoir holds features, not raw input
+    np.testing.assert_allclose(learner.reservoir_X_, scaler.transform(X0s), rtol=1e-6)
+    n0 = CountingScaler.n_rows_transformed
+    for _ in range(2):
+        learner.query(X_tests)
+        learner.score(X_tests, y_test)
+        learner.predict_proba_samples(X_tests, n_samples=2)
+    # the test presses went through the feature steps once
+    assert CountingScaler.n_rows_transformed - n0 == len(X_tests)
+    X_new, y_new = make_blobs(n_per_class=2, seed=3)
+    n1 = CountingScaler.n_rows_transformed
+    learner.teach(shift(X_new), y_new)
+    learner.teach(shift(X_new), y_new)
+    # new presses are transformed once each; the reservoir is never recomputed
+    assert CountingScaler.n_rows_transformed - n1 == 2 * len(X_new)
+    assert CountingScaler.n_fit == 1
+    np.testing.assert_array_equal(scaler.mean_, mean0)
+    assert learner.reservoir_X_.shape == (9 + 12, 4)
+    # predictions agree with the pipeline's own
+    np.testing.assert_array_equal(learner.predict(X_tests), learner.estimator_.predict(X_tests))
+
+
+def test_feature_cache_can_be_disabled(data):
+    X0, y0, X_test, y_test, _ = data
+    CountingScaler.n_rows_transformed = 0
+    learner = ActiveLearner(make_pipeline(CountingScaler(), make_net()), initial_epochs=1,
+                            n_mc_samples=2, cache_test_features=False).fit(X0, y0)
+    n0 = CountingScaler.n_rows_transformed
+    learner.score(X_test, y_test)
+    learner.score(X_test, y_test)
+    assert CountingScaler.n_rows_transformed - n0 == 2 * len(X_test)
+
+
+def test_sequence_input_through_pipeline(data):
+    """X as a list of per-press arrays (like videos), stacked by the first step."""
+    from sklearn.preprocessing import FunctionTransformer
+
+    X0, y0, X_test, y_test, _ = data
+    stack = FunctionTransformer(lambda X: np.stack(list(X)).astype(np.float32))
+    learner = ActiveLearner(make_pipeline(stack, make_net()), initial_epochs=2,
+                            epochs_per_query=1, max_reservoir=10, n_mc_samples=3,
+                            random_state=0)
+    learner.fit(list(X0), y0)
+    idx, _ = learner.query(list(X_test))
+    X_new, y_new = make_blobs(n_per_class=1, seed=4)
+    learner.teach(list(X_new), y_new)
+    assert learner.predict(list(X_test)).shape == (len(X_test),)
+
+
+def test_concat_rows_kinds():
+    import torch
+
+    a, b = np.zeros((2, 3)), np.ones((1, 3))
+    assert _concat_rows(a, b).shape == (3, 3)
+    assert _concat_rows(torch.zeros(2, 3), torch.ones(1, 3)).shape == (3, 3)
+    out = _concat_rows([a[0], a[1]], (b[0],))
+    assert isinstance(out, list) and len(out) == 3
+    with pytest.raises(ValueError, match="per sample"):
+        _concat_rows(a, np.ones((1, 4)))
+
+
+class ForestMC(BaseEstimator):
+    """A non-skorch probabilistic model: the trees of a random forest play the
+    role of MC-dropout passes."""
+
+    def __init__(self, n_estimators=20):
+        self.n_estimators = n_estimators
+
+    def fit(self, X, y):
+        from sklearn.ensemble import RandomForestClassifier
+
+        self.n_fit_ = getattr(self, "n_fit_", 0) + 1
+        self.forest_ = RandomForestClassifier(self.n_estimators, random_state=0).fit(X, y)
+        self.classes_ = self.forest_.classes_
+        self.n_train_ = len(y)
+        return self
+
+    def predict_proba(self, X):
+        return self.forest_.predict_proba(X)
+
+    def predict_proba_samples(self, X, n_samples=50, random_state=None):
+        rng = np.random.default_rng(random_state)
+        trees = rng.choice(self.forest_.estimators_, n_samples)
+        return np.stack([t.predict_proba(X) for t in trees])
+
+
+def test_non_skorch_estimator_is_refit_and_string_labels(data):
+    X0, y0, X_test, y_test, _ = data
+    names = np.array(["hard", "medium", "soft"])
+    learner = ActiveLearner(ForestMC(), "entropy", max_reservoir=12, n_mc_samples=8,
+                            random_state=0).fit(X0, names[y0])
+    np.testing.assert_array_equal(learner.classes_, ["hard", "medium", "soft"])
+    assert learner.initial_train_loss_ is None
+    idx, scores = learner.query(X_test)
+    X_new, y_new = make_blobs(n_per_class=2, seed=3)
+    learner.teach(X_new, names[y_new])
+    assert learner.estimator_.n_fit_ == 2 and learner.estimator_.n_train_ == 12
+    assert set(learner.predict(X_test)) <= set(names)
+    assert learner.score(X_test, names[y_test]) > 0.7
+
+
+# ---------------------------------------------------------------- bad input
+def test_unknown_strategy(data):
+    X0, y0, X_test, _, _ = data
+    with pytest.raises(ValueError, match="unknown query strategy 'uncertainty'"):
+        ActiveLearner(make_net(), "uncertainty").fit(X0, y0)
+    learner = ActiveLearner(make_net(), initial_epochs=1).fit(X0, y0)
+    learner.set_params(query_strategy="margin")
+    with pytest.raises(ValueError, match="unknown query strategy"):
+        learner.query(X_test)
+
+
+def test_max_reservoir_smaller_than_batch(data):
+    X0, y0, _, _, _ = data
+    learner = ActiveLearner(make_net(), initial_epochs=1, max_reservoir=4).fit(X0, y0)
+    X_new, y_new = make_blobs(n_per_class=2, seed=5)  # 6 new presses
+    with pytest.raises(ValueError, match="max_reservoir=4 is smaller than the batch of 6"):
+        learner.teach(X_new, y_new)
+    assert len(learner.reservoir_y_) == 9  # nothing was added
+
+
+def test_empty_test_set(data):
+    X0, y0, _, _, _ = data
+    learner = ActiveLearner(make_net(), initial_epochs=1).fit(X0, y0)
+    with pytest.raises(ValueError, match="X_test is empty"):
+        learner.query(np.zeros((0, 4), dtype=np.float32))
+
+
+def test_classes_missing_from_initial_set(data):
+    X0, y0, _, _, _ = data
+    keep = y0 != 1
+    with pytest.raises(ValueError, match=r"classes \[1\] are missing from the initial"):
+        ActiveLearner(make_net(), initial_epochs=1).fit(X0[keep], y0[keep])
+    with pytest.raises(ValueError, match=r"classes \[3\] are missing"):
+        ActiveLearner(make_net(), initial_epochs=1, classes=[0, 1, 2, 3]).fit(X0, y0)
+    # the net's own `classes` parameter declares them too
+    with pytest.raises(ValueError, match=r"classes \[3\] are missing"):
+        ActiveLearner(make_net(classes=[0, 1, 2, 3]), initial_epochs=1).fit(X0, y0)
+    with pytest.raises(ValueError, match=r"labels \[7\] that are not among"):
+        ActiveLearner(make_net(), initial_epochs=1, classes=[0, 1, 2]).fit(
+            X0, np.where(y0 == 2, 7, y0))
+
+
+def test_model_output_mismatch(data):
+    X0, y0, X_test, _, _ = data
+    learner = ActiveLearner(make_net(n_classes=4), initial_epochs=1).fit(X0, y0)
+    with pytest.raises(ValueError, match="outputs 4 class probabilities but there are 3"):
+        learner.query(X_test)
+
+
+def test_teach_before_fit_and_bad_teach(data):
+    X0, y0, _, _, _ = data
+    with pytest.raises(NotFittedError, match="before fit"):
+        ActiveLearner(make_net()).teach(X0, y0)
+    with pytest.raises(NotFittedError):
+        ActiveLearner(make_net()).query(X0)
+    learner = ActiveLearner(make_net(), initial_epochs=1).fit(X0, y0)
+    with pytest.raises(ValueError, match=r"labels \[5\] that are not among"):
+        learner.teach(X0[:2], [0, 5])
+    with pytest.raises(ValueError, match="X_new has 2 samples but y_new has 3"):
+        learner.teach(X0[:2], [0, 1, 1])
+    with pytest.raises(ValueError, match="X_new is empty"):
+        learner.teach(X0[:0], [])
+
+
+@pytest.mark.parametrize(
+    "param, value",
+    [("initial_epochs", 0), ("epochs_per_query", -1), ("n_mc_samples", 0),
+     ("max_reservoir", 0), ("initial_epochs", 2.5)],
+)
+def test_bad_params(param, value, data):
+    X0, y0, _, _, _ = data
+    with pytest.raises(ValueError, match=param):
+        ActiveLearner(make_net(), **{param: value}).fit(X0, y0)
+
+
+def test_bad_fit_input(data):
+    X0, y0, _, _, _ = data
+    with pytest.raises(ValueError, match="X has 9 samples but y has 8"):
+        ActiveLearner(make_net()).fit(X0, y0[:-1])
+    with pytest.raises(ValueError, match="X is empty"):
+        ActiveLearner(make_net()).fit(X0[:0], y0[:0])

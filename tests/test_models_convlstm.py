@@ -1,0 +1,127 @@
+"""ConvLSTMClassifier: architecture, input checks and learning."""
+
+import numpy as np
+import pytest
+import torch
+
+from sklearn_hardness.models import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
+
+
+@pytest.fixture(autouse=True)
+def _one_thread():
+    n = torch.get_num_threads()
+    torch.set_num_threads(1)
+    yield
+    torch.set_num_threads(n)
+
+
+def _brightness_task(n=20, seed=0, shape=(3, 8, 10, 3)):
+    """Class 1 videos get brighter over time, class 0 stay dark: trivially separable."""
+    rng = np.random.default_rng(seed)
+    y = np.arange(n) % 2
+    X = rng.normal(scale=0.05, size=(n,) + shape).astype(np.float32)
+    ramp = np.linspace(0.2, 0.8, shape[0], dtype=np.float32)[None, :, None, None, None]
+    X += y[:, None, None, None, None] * ramp
+    return X, np.where(y == 1, "hard", "soft")
+
+
+@pytest.fixture(scope="module")
+def fitted():
+    torch.set_num_threads(1)
+    X, y = _brightness_task()
+    return X, y, ConvLSTMClassifier(max_epochs=3, random_state=0).fit(X, y)
+
+
+def test_learns_trivial_video_task():
+    X, y = _brightness_task(n=24)
+    net = ConvLSTMClassifier(max_epochs=25, lr=1e-2, random_state=0).fit(X, y)
+    assert net.score(X, y) == 1.0
+    X_test, y_test = _brightness_task(n=16, seed=1)
+    assert net.score(X_test, y_test) == 1.0
+    losses = net.history[:, "train_loss"]
+    assert losses[-1] < 0.5 * losses[0]
+
+
+def test_architecture_matches_paper(fitted):
+    X, y, net = fitted
+    m = net.module_
+    assert isinstance(m, ConvLSTMNet)
+    assert [layer.hidden_channels for layer in m.layers] == [4, 8, 14, 16]
+    assert [layer.input_conv.in_channels for layer in m.layers] == [3, 4, 8, 14]
+    assert all(layer.input_conv.kernel_size == (3, 3) for layer in m.layers)
+    assert [d.p for d in m.dropouts] == [0.2] * 4
+    assert m.head.in_features == 16 and m.head.out_features == 2
+    assert net.n_frames_in_ == 3 and net.frame_shape_ == (8, 10, 3)
+    assert m.input_shape.tolist() == [3, 8, 10, 3]
+
+
+def test_convlstm_layer_matches_reference_equations():
+    torch.manual_seed(0)
+    layer = ConvLSTMLayer(2, 3, kernel_size=3)
+    x = torch.randn(2, 4, 2, 5, 6)
+    out = layer(x)
+    assert out.shape == (2, 4, 3, 5, 6)
+    # reference: one convolution of [x_t, h_{t-1}] with the concatenated weights
+    w = torch.cat([layer.input_conv.weight, layer.hidden_conv.weight], dim=1)
+    h = torch.zeros(2, 3, 5, 6)
+    c = torch.zeros(2, 3, 5, 6)
+    for t in range(4):
+        gates = torch.nn.functional.conv2d(torch.cat([x[:, t], h], 1), w, layer.input_conv.bias, padding=1)
+        i, f, g, o = gates.chunk(4, 1)
+        c = torch.sigmoid(f) * c + torch.sigmoid(i) * torch.tanh(g)
+        h = torch.sigmoid(o) * torch.tanh(c)
+        torch.testing.assert_close(out[:, t], h, atol=1e-5, rtol=1e-5)
+    torch.testing.assert_close(layer(x, return_sequence=False), h, atol=1e-5, rtol=1e-5)
+    # forget-gate bias starts at 1
+    assert torch.all(layer.input_conv.bias[3:6] == 1) and torch.all(layer.input_conv.bias[:3] == 0)
+
+
+def test_replicated_forward_shares_first_projection(fitted):
+    X, y, net = fitted
+    m = net.module_.eval()
+    seen = []
+    handle = m.layers[0].input_conv.register_forward_hook(lambda mod, inp, out: seen.append(inp[0].shape[0]))
+    try:
+        with torch.no_grad():
+            out = m(torch.as_tensor(X[:2]), n_replicas=5)
+            plain = m(torch.as_tensor(X[:2]))
+    finally:
+        handle.remove()
+    assert seen[0] == 2 * 3  # 2 inputs x 3 frames, not 10 x 3
+    torch.testing.assert_close(out.reshape(5, 2, 2)[4], plain, atol=1e-5, rtol=1e-5)
+
+
+def test_any_frame_size_and_grey(fitted):
+    X, y = _brightness_task(n=6, shape=(2, 5, 7, 1))
+    net = ConvLSTMClassifier(max_epochs=1, filters=(3, 5), random_state=0).fit(X, y)
+    assert net.predict_proba_samples(X, n_samples=3, random_state=0).shape == (3, 6, 2)
+    assert len(net.module_.layers) == 2
+
+
+@pytest.mark.parametrize(
+    "X_bad, match",
+    [
+        (np.zeros((4, 3, 8, 10), np.float32), "5 dimension|dimension\\(s\\)"),
+        (np.zeros((4, 2, 8, 10, 3), np.float32), "2 frames per sample but 3"),
+        (np.zeros((4, 3, 8, 12, 3), np.float32), "frames of shape \\(8, 12, 3\\)"),
+        (np.zeros((4, 3, 8, 10, 1), np.float32), "frames of shape \\(8, 10, 1\\)"),
+        (np.full((4, 3, 8, 10, 3), np.nan, np.float32), "NaN"),
+        (np.array([["a"]]), "numeric|dimension"),
+    ],
+)
+def test_bad_inputs_give_clear_errors(fitted, X_bad, match):
+    _, _, net = fitted
+    with pytest.raises((ValueError, TypeError), match=match):
+        net.predict_proba(X_bad)
+    with pytest.raises((ValueError, TypeError), match=match):
+        net.predict_proba_samples(X_bad, n_samples=2)
+
+
+def test_bad_parameters():
+    X, y = _brightness_task(n=6)
+    with pytest.raises(ValueError, match="filters"):
+        ConvLSTMClassifier(filters=(4, 0), max_epochs=1).fit(X, y)
+    with pytest.raises(ValueError, match="odd"):
+        ConvLSTMClassifier(kernel_size=2, max_epochs=1).fit(X, y)
+    with pytest.raises(ValueError, match="NaN"):
+        ConvLSTMClassifier(max_epochs=1).fit(np.where(X > 0.5, np.nan, X), y)
