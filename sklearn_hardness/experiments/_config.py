@@ -82,8 +82,9 @@ QUICK_OVERRIDES = {
     "image_size": (96, 128),
     "frame_size": (12, 16),
     "initial_epochs": 40,
-    "epochs_per_query": 20,
-    "n_mc_samples": 20,
+    "epochs_per_query": 10,
+    "lr": 3e-3,
+    "n_mc_samples": 10,
     "n_runs": 1,
 }
 
