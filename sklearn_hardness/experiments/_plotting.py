@@ -60,7 +60,10 @@ def plot_active_sampling(result, metric="accuracy", ax=None, band="std"):
             spread = np.nanstd(curves, axis=0) * scale
             if band == "sem":
                 spread = spread / np.sqrt(len(curves))
-            ax.fill_between(it, mean - spread, mean + spread, color=line.get_color(), alpha=0.15)
+            lo, hi = mean - spread, mean + spread
+            if metric == "accuracy":  # a band past 0% or 100% means nothing
+                lo, hi = np.clip(lo, 0, 100), np.clip(hi, 0, 100)
+            ax.fill_between(it, lo, hi, color=line.get_color(), alpha=0.15)
     ax.set_xlabel("active sampling iteration")
     unit = (result.config or {}).get("hardness_unit") if metric == "mae" else None
     ax.set_ylabel(_LABELS[metric] + (" (%)" if metric == "accuracy" else f" ({unit})" if unit else ""))
