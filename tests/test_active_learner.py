@@ -18,7 +18,7 @@ from sklearn_hardness.active import (
 from sklearn_hardness.active._learner import _concat_rows
 from sklearn_hardness.metrics import hardness_mae
 
-from _active_net import MCDropoutNet, make_blobs, make_net
+from ._active_net import MCDropoutNet, make_blobs, make_net
 
 
 class CountingScaler(TransformerMixin, BaseEstimator):
@@ -258,6 +258,28 @@ def test_concat_rows_kinds():
     assert isinstance(out, list) and len(out) == 3
     with pytest.raises(ValueError, match="per sample"):
         _concat_rows(a, np.ones((1, 4)))
+    import scipy.sparse as sp
+
+    assert _concat_rows(sp.csr_matrix(a), sp.csr_matrix(b)).shape == (3, 3)
+
+
+def test_concat_rows_keeps_lazy_videos_lazy():
+    from sklearn_hardness.datasets import LazyVideoSequence
+
+    loaded = []
+
+    def loader(k):
+        loaded.append(k)
+        return np.full((2 + k, 4, 4, 3), k, np.uint8)  # ragged lengths
+
+    videos = LazyVideoSequence(loader, range(6))
+    out = _concat_rows(videos[[0, 1]], videos[[4]])
+    assert isinstance(out, LazyVideoSequence) and loaded == []
+    assert [int(v[0, 0, 0, 0]) for v in out] == [0, 1, 4]
+    other = LazyVideoSequence(loader, [5])  # a different sequence object, same loader
+    assert isinstance(_concat_rows(videos[[0]], other), LazyVideoSequence)
+    mixed = _concat_rows(videos[[0]], [np.zeros((3, 4, 4, 3), np.uint8)])
+    assert isinstance(mixed, list) and len(mixed) == 2
 
 
 class ForestMC(BaseEstimator):
@@ -381,3 +403,41 @@ def test_bad_fit_input(data):
         ActiveLearner(make_net()).fit(X0, y0[:-1])
     with pytest.raises(ValueError, match="X is empty"):
         ActiveLearner(make_net()).fit(X0[:0], y0[:0])
+
+
+def test_estimator_classes_must_match(data):
+    X0, y0, _, _, _ = data
+
+    class Shifted(MCDropoutNet):
+        @property
+        def classes_(self):
+            return np.array([1, 2, 3])
+
+    net = Shifted(**make_net().get_params())
+    with pytest.raises(ValueError, match=r"classes_ \[1, 2, 3\] differ from the learner's classes \[0, 1, 2\]"):
+        ActiveLearner(net, initial_epochs=1).fit(X0, y0)
+
+
+def test_strategy_called_on_the_learner_itself(data):
+    X0, y0, X_test, _, _ = data
+    learner = ActiveLearner(make_net(), initial_epochs=2, n_mc_samples=5).fit(X0, y0)
+    idx, scores = variance_sampling(learner, X_test, n_samples=6, random_state=2)
+    seed = int(np.random.RandomState(2).randint(np.iinfo(np.int32).max))
+    p = learner.predict_proba_samples(X_test, n_samples=6, random_state=seed)
+    assert p.shape == (6, len(X_test), 3)
+    np.testing.assert_allclose(scores, class_uncertainty(p, "variance"))
+    assert learner.predict_proba_samples(X_test).shape[0] == 5  # default n_mc_samples
+
+
+def test_pickle_round_trip_drops_feature_cache(data):
+    import pickle
+
+    X0, y0, X_test, y_test, _ = data
+    learner = ActiveLearner(make_pipeline(StandardScaler(), make_net()), initial_epochs=2,
+                            n_mc_samples=3, random_state=0).fit(X0, y0)
+    p = learner.predict_proba(X_test)
+    assert learner._feature_cache is not None
+    restored = pickle.loads(pickle.dumps(learner))
+    assert getattr(restored, "_feature_cache", None) is None
+    np.testing.assert_allclose(restored.predict_proba(X_test), p)
+    restored.teach(X0[:2], y0[:2])  # still usable

@@ -19,7 +19,7 @@ from sklearn_hardness.active import (
     variance_sampling,
 )
 
-from _active_net import MCDropoutNet, make_blobs, make_net
+from ._active_net import MCDropoutNet, make_blobs, make_net
 
 
 @pytest.fixture(scope="module")

@@ -118,3 +118,19 @@ def test_bad_press():
         oracle.press([0, 0])
     with pytest.raises(ValueError, match="empty"):
         PressOracle(X[:0], y[:0])
+
+
+def test_lazy_video_pool_stays_lazy():
+    from sklearn_hardness.datasets import LazyVideoSequence
+
+    loaded = []
+
+    def loader(k):
+        loaded.append(k)
+        return np.full((3, 4, 4, 3), k, np.uint8)
+
+    videos = LazyVideoSequence(loader, range(8))
+    oracle = PressOracle(videos, np.arange(8) % 2, random_state=0)
+    Xs, ys = oracle.press(1, 3)
+    assert isinstance(Xs, LazyVideoSequence) and loaded == []
+    assert all(int(v[0, 0, 0, 0]) % 2 == 1 for v in Xs) and ys.tolist() == [1, 1, 1]

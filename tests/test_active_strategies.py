@@ -15,7 +15,7 @@ from sklearn_hardness.active import (
 )
 from sklearn_hardness.active._strategies import _predict_proba_samples
 
-from _active_net import MCDropoutNet, make_blobs, make_net
+from ._active_net import MCDropoutNet, make_blobs, make_net
 
 STRATEGIES = [entropy_sampling, variance_sampling, bald_sampling, random_sampling]
 UNCERTAIN = {"entropy": entropy_sampling, "variance": variance_sampling, "bald": bald_sampling}

@@ -257,3 +257,43 @@ def test_missing_transformers_gives_install_hint(X, monkeypatch, model_dir, back
         DINOv2Features(model=str(model_dir)).fit(X)
     # An nn.Module does not need transformers to be importable.
     assert DINOv2Features(model=backbone, image_size=28).fit_transform(X).shape == (3, 4 * DIM)
+
+
+
+def test_features_computed_once_per_video_in_cached_pipeline(X, tmp_path, model_dir, monkeypatch):
+    from sklearn.linear_model import LogisticRegression
+    from sklearn.pipeline import Pipeline
+
+    n_embedded = []
+    embed = DINOv2Features._embed
+
+    def counting_embed(self, pixels):
+        n_embedded.append(pixels.shape[0])
+        return embed(self, pixels)
+
+    monkeypatch.setattr(DINOv2Features, "_embed", counting_embed)
+    y = np.array([0, 1, 0])
+    # With model given as a directory (or id) the fitted transformer is cached by
+    # joblib; an nn.Module parameter does not hash the same after clone.
+    pipe = Pipeline(
+        [("dino", DINOv2Features(model=str(model_dir), image_size=28)), ("clf", LogisticRegression())],
+        memory=str(tmp_path / "cache"),
+    )
+    pipe.fit(X, y)
+    assert sum(n_embedded) == 1 + X.shape[0] * X.shape[1]  # one probe frame in fit, then each frame once
+    proba = pipe.predict_proba(X)
+    n_after_predict = sum(n_embedded)
+    pipe.set_params(clf__C=0.5).fit(X, y)  # refitting the head reuses the cached features
+    assert sum(n_embedded) == n_after_predict
+    assert proba.shape == (3, 2)
+
+
+def test_half_precision_and_auto_device(X, backbone):
+    ref = DINOv2Features(model=backbone, image_size=28).fit_transform(X)
+    dino = DINOv2Features(model=backbone, image_size=28, dtype="bfloat16", device="auto").fit(X)
+    assert dino.device_.type == ("cuda" if torch.cuda.is_available() else "cpu")
+    assert next(dino.model_.parameters()).dtype == torch.bfloat16
+    out = dino.transform(X)
+    assert out.dtype == np.float32
+    np.testing.assert_allclose(out, ref, atol=0.1 * np.abs(ref).max())
+    assert next(backbone.parameters()).dtype == torch.float32  # the given module is untouched

@@ -76,18 +76,31 @@ def test_convlstm_layer_matches_reference_equations():
     assert torch.all(layer.input_conv.bias[3:6] == 1) and torch.all(layer.input_conv.bias[:3] == 0)
 
 
-def test_replicated_forward_shares_first_projection(fitted):
+def test_replicated_forward_runs_first_layer_once(fitted):
     X, y, net = fitted
     m = net.module_.eval()
-    seen = []
-    handle = m.layers[0].input_conv.register_forward_hook(lambda mod, inp, out: seen.append(inp[0].shape[0]))
+    seen = {}
+
+    def record(name):
+        def hook(mod, inp, out):
+            seen.setdefault(name, inp[0].shape[0])
+
+        return hook
+
+    hooks = [
+        conv.register_forward_hook(record(name))
+        for name, conv in [("l0_in", m.layers[0].input_conv), ("l0_h", m.layers[0].hidden_conv),
+                           ("l1_in", m.layers[1].input_conv), ("l1_h", m.layers[1].hidden_conv)]
+    ]
     try:
         with torch.no_grad():
             out = m(torch.as_tensor(X[:2]), n_replicas=5)
             plain = m(torch.as_tensor(X[:2]))
     finally:
-        handle.remove()
-    assert seen[0] == 2 * 3  # 2 inputs x 3 frames, not 10 x 3
+        for h in hooks:
+            h.remove()
+    # the first layer (before any dropout) sees 2 inputs; the second one 5 replicas of each
+    assert seen == {"l0_in": 2 * 3, "l0_h": 2, "l1_in": 10 * 3, "l1_h": 10}
     torch.testing.assert_close(out.reshape(5, 2, 2)[4], plain, atol=1e-5, rtol=1e-5)
 
 

@@ -48,13 +48,19 @@ def _concat_rows(a, b):
         import torch
 
         return torch.cat([a, b], dim=0)
-    if hasattr(a, "shape") and hasattr(b, "shape"):  # e.g. sparse matrices
-        import scipy.sparse as sp
+    import scipy.sparse as sp
 
-        if sp.issparse(a) or sp.issparse(b):
-            return sp.vstack([a, b], format="csr")
-        return np.concatenate([np.asarray(a), np.asarray(b)], axis=0)
-    # sequences of videos (lists, lazy sequences): materialise the references
+    if sp.issparse(a) or sp.issparse(b):
+        return sp.vstack([a, b], format="csr")
+    from ..datasets import LazyVideoSequence
+
+    if (
+        isinstance(a, LazyVideoSequence)
+        and isinstance(b, LazyVideoSequence)
+        and a.loader is b.loader
+    ):  # stay lazy: only the keys are concatenated
+        return a._subset(list(a.keys) + list(b.keys))
+    # other sequences of videos: a list of the (loaded) items
     return [a[i] for i in range(len(a))] + [b[i] for i in range(len(b))]
 
 
@@ -119,8 +125,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         :class:`~sklearn.pipeline.Pipeline` ending in one. It is cloned in
         :meth:`fit`; the trained copy is ``estimator_``. If the final
         estimator is a skorch net it is trained with
-        ``fit(X, y, epochs=initial_epochs)`` and then warm-started with
-        ``partial_fit(X, y, epochs=epochs_per_query)``. Any other final
+        ``partial_fit(X, y, classes=classes_, epochs=...)``: the first call
+        initialises the (cloned, untrained) net, later calls continue from
+        its current weights and optimizer state (warm start). Any other final
         estimator is refit from scratch on each training set (the epoch
         counts are then unused). For a Pipeline, the steps before the last
         are fit once, on the initial presses, and their output for every
@@ -232,6 +239,12 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         self.cache_test_features = cache_test_features
         self.random_state = random_state
 
+    def __getstate__(self):
+        # the cached test features are a convenience, not state worth pickling
+        state = super().__getstate__()
+        state.pop("_feature_cache", None)
+        return state
+
     # ------------------------------------------------------------------ helpers
     def _final(self):
         est = self.estimator_
@@ -274,14 +287,13 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             torch.manual_seed(seed)
             yield
 
-    def _train(self, Xt, y, epochs, *, first):
+    def _train(self, Xt, y, epochs):
         final = self._final()
         with self._seeded_torch():
             if _is_skorch_net(final):
-                if first:
-                    final.fit(Xt, y, epochs=epochs)
-                else:
-                    final.partial_fit(Xt, y, epochs=epochs)
+                # the clone is uninitialised, so the first partial_fit initialises
+                # it; later calls continue (module, optimizer state, history)
+                final.partial_fit(Xt, y, classes=self.classes_, epochs=epochs)
             else:
                 final.fit(Xt, y)
         return self._last_train_loss()
@@ -339,7 +351,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             raise ValueError(
                 f"classes {missing.tolist()} are missing from the initial training "
                 "set: every reference object needs initial presses (s0 > 0) before "
-                "active sampling can choose between them."
+                "active sampling can choose between them. (Without classes=..., "
+                "integer labels are taken as class indices 0 .. n_classes - 1; pass "
+                "classes=[...] to declare the labels explicitly.)"
             )
         return classes
 
@@ -391,7 +405,17 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             Xt = self.estimator_[:-1].fit_transform(X, y)
         else:
             Xt = X
-        loss = self._train(Xt, y, initial_epochs, first=True)
+        loss = self._train(Xt, y, initial_epochs)
+        final_classes = getattr(self._final(), "classes_", None)
+        if final_classes is not None and not (
+            len(final_classes) == len(self.classes_)
+            and np.array_equal(np.asarray(final_classes), self.classes_)
+        ):
+            raise ValueError(
+                f"the trained estimator's classes_ {np.asarray(final_classes).tolist()} "
+                f"differ from the learner's classes {self.classes_.tolist()}; pass the "
+                "same classes=[...] to both."
+            )
         self.reservoir_X_ = Xt
         self.reservoir_y_ = y.copy()
         self.n_iterations_ = 0
@@ -546,7 +570,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             y_train = self.reservoir_y_[subset]
         else:
             X_train, y_train = self.reservoir_X_, self.reservoir_y_
-        loss = self._train(X_train, y_train, self.epochs_per_query, first=False)
+        loss = self._train(X_train, y_train, self.epochs_per_query)
         self.n_iterations_ += 1
         self.history_.append(
             {

@@ -178,7 +178,9 @@ _RETURNS = """
     -----
     The return value is the pair ``(class_indices, scores)`` that
     ``modAL.models.ActiveLearner.query`` expects from a strategy (modAL
-    >= 0.4 unpacks ``query_result, query_metrics``). The indices are
+    >= 0.4 unpacks ``query_result, query_metrics``; an index-only array of
+    length 2 would be silently split into one index and one "metric"). The
+    indices are
     *class* indices, not rows of ``X_test``: modAL's ``query`` also returns
     ``X_test[class_indices]``, which is meaningless here (and fails when
     ``X_test`` has fewer rows than the chosen index).
@@ -188,7 +190,8 @@ _RETURNS = """
 def _make_doc(kind, eq):
     return f"""Pick the class(es) whose MC-dropout {kind} on the test presses is highest.
 
-    {eq} See :func:`class_uncertainty` for the exact definition.
+    {eq}
+    See :func:`class_uncertainty` for the exact definition.
 
     Parameters
     ----------

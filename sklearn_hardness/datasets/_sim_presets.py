@@ -217,11 +217,11 @@ PRESETS = {
         gel_compliance=0.30,
         field_of_view=18.6,
         force_range=(1.0, 6.0),
-        speed_range=(4.0, 12.0),
+        speed_range=(8.0, 20.0),
         speed_unevenness=0.35,
-        drive_compliance=1.5,
-        force_lag_range=(0.08, 0.2),
-        deceleration=150.0,
+        drive_compliance=1.0,
+        force_lag_range=(0.05, 0.12),
+        deceleration=400.0,
         hold_range=(0.1, 0.4),
         retreat_speed_ratio=(0.7, 1.5),
         fps=30.0,
@@ -314,6 +314,8 @@ def resolve_params(preset, overrides):
         out[name] = _check_param(name, params[name])
     if preset == "shore9" and np.any(out["hardness"] >= 100):
         raise ValueError(f"Shore 00 hardness must lie in (0, 100), got {out['hardness']}.")
+    # Classes are ordered by increasing hardness value (as a manifest's numeric labels sort).
+    out["hardness"] = np.sort(out["hardness"])
     if len(np.unique(out["hardness"])) != len(out["hardness"]):
         raise ValueError(f"hardness values must be distinct (one per object), got {out['hardness']}.")
     if out["marker_radius"] * 2 >= out["marker_spacing"]:

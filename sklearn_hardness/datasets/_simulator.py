@@ -42,11 +42,11 @@ from __future__ import annotations
 
 import numbers
 import threading
-from collections import OrderedDict
 
 import numpy as np
 from sklearn.utils import Bunch, check_random_state
 
+from ._lazy import LazyVideoSequence
 from ._sim_mechanics import simulate_press
 from ._sim_optics import SensorOptics, render_press
 from ._sim_presets import PRESETS, modulus_to_compliance, resolve_params, shore00_to_modulus
@@ -109,7 +109,7 @@ class _Simulation:
         )
 
 
-class SimulatedPressVideos:
+class SimulatedPressVideos(LazyVideoSequence):
     """Lazy sequence of simulated press videos.
 
     Each video is rendered when accessed, from the stored press parameters
@@ -119,17 +119,21 @@ class SimulatedPressVideos:
     integer array or boolean mask (returns a new lazy sequence). It has a
     ``shape`` of ``(n_videos,)`` so that :func:`sklearn.utils._safe_indexing`,
     :func:`~sklearn.model_selection.train_test_split` and
-    :func:`~sklearn.model_selection.cross_val_score` keep it lazy.
+    :func:`~sklearn.model_selection.cross_val_score` keep it lazy. It
+    pickles without its rendered frames (for joblib's process backends).
 
     Parameters
     ----------
-    simulation : object
-        The simulated dataset (internal).
-    indices : array-like of int
+    loader : callable
+        Renders the press of a key (internal: the simulated dataset).
+    keys : sequence of int
         Which presses of the dataset this sequence holds.
     cache_size : int, default=0
-        Number of most recently rendered videos kept in memory (each is
-        returned as a copy). 0 renders on every access.
+        Number of most recently rendered videos kept in memory.
+
+    See Also
+    --------
+    LazyVideoSequence : The generic lazy sequence (used for recordings).
 
     Examples
     --------
@@ -142,93 +146,14 @@ class SimulatedPressVideos:
     3
     """
 
-    def __init__(self, simulation, indices, cache_size=0):
-        self._sim = simulation
-        self._indices = np.asarray(indices, dtype=np.intp)
-        self.cache_size = cache_size
-        self._cache = OrderedDict()
-        self._lock = threading.Lock()
-
-    def __getstate__(self):
-        state = self.__dict__.copy()
-        state["_cache"] = OrderedDict()
-        del state["_lock"]
-        return state
-
-    def __setstate__(self, state):
-        self.__dict__.update(state)
-        self._lock = threading.Lock()
-
-    @property
-    def shape(self):
-        """``(n_videos,)``: the number of videos (frames differ in length)."""
-        return (len(self._indices),)
-
     @property
     def indices(self):
         """Indices of these videos in the dataset made by :func:`make_presses`."""
-        return self._indices.copy()
-
-    def __len__(self):
-        return len(self._indices)
-
-    def __iter__(self):
-        for i in range(len(self)):
-            yield self[i]
+        return np.asarray(self.keys, dtype=int)
 
     def __repr__(self):
-        h, w = self._sim.image_size
-        return f"SimulatedPressVideos(n_videos={len(self)}, image_size=({h}, {w}), lazy)"
-
-    def _render(self, j):
-        with self._lock:
-            if j in self._cache:
-                self._cache.move_to_end(j)
-                return self._cache[j].copy()
-        video = self._sim.render(j)
-        if self.cache_size:
-            with self._lock:
-                self._cache[j] = video
-                while len(self._cache) > self.cache_size:
-                    self._cache.popitem(last=False)
-            return video.copy()
-        return video
-
-    def __getitem__(self, key):
-        if isinstance(key, tuple):
-            # numpy-style ``X[key, ...]`` as used by sklearn's _safe_indexing.
-            rest = key[1:]
-            if not key or any(k is not Ellipsis and k != slice(None) for k in rest):
-                raise IndexError(
-                    f"SimulatedPressVideos supports one index (videos), got {key!r}; "
-                    "index a video's frames after reading it, e.g. videos[i][t]."
-                )
-            key = key[0]
-        n = len(self)
-        if isinstance(key, (numbers.Integral, np.integer)) and not isinstance(key, (bool, np.bool_)):
-            i = int(key)
-            if not -n <= i < n:
-                raise IndexError(f"video index {i} is out of range for {n} videos.")
-            return self._render(int(self._indices[i % n]))
-        if isinstance(key, slice):
-            return SimulatedPressVideos(self._sim, self._indices[key], self.cache_size)
-        arr = np.asarray(key)
-        if arr.dtype == bool:
-            if arr.shape != (n,):
-                raise IndexError(f"boolean mask of shape {arr.shape} does not match {n} videos.")
-            arr = np.flatnonzero(arr)
-        elif arr.size == 0:
-            arr = arr.astype(np.intp)
-        elif not np.issubdtype(arr.dtype, np.integer):
-            raise IndexError(
-                f"videos can be indexed by an int, a slice, or an array of ints or bools; got "
-                f"{arr.dtype} values."
-            )
-        if arr.ndim != 1:
-            raise IndexError(f"index arrays must be 1-d, got shape {arr.shape}.")
-        if arr.size and (arr.min() < -n or arr.max() >= n):
-            raise IndexError(f"video index out of range for {n} videos: {arr.tolist()}.")
-        return SimulatedPressVideos(self._sim, self._indices[arr], self.cache_size)
+        h, w = self.loader.__self__.image_size
+        return f"SimulatedPressVideos(n_videos={len(self)}, image_size=({h}, {w}))"
 
 
 def _check_image_size(image_size):
@@ -336,8 +261,13 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_si
             Lazy sequence of ``(T_i, H, W, 3)`` ``uint8`` videos (``T_i``
             differs between presses).
         target : ndarray of shape (n_samples,), int
-            Object (class) index, 0 = softest.
+            Object (class) index. Classes are ordered by increasing
+            hardness *value*: for ``silicone5`` (compliance) class 0 is the
+            hardest object (0.44 mm/N), for ``shore9`` the softest (Shore 00 8).
         target_names : ndarray of str
+            The hardness values as strings (``"0.44"``, ``"8"``), so that a
+            manifest written by ``sklearn-hardness simulate`` loads back to
+            the same class indices.
         hardness : ndarray of shape (n_classes,)
             Nominal hardness of each class, in ``hardness_unit``.
         hardness_unit : str
@@ -369,8 +299,8 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_si
     --------
     >>> from sklearn_hardness.datasets import make_presses
     >>> data = make_presses("silicone5", n_per_class=2, image_size=(48, 64), random_state=0)
-    >>> len(data.videos), data.target_names[0], data.hardness_unit
-    (10, '1.13 mm/N', 'mm/N')
+    >>> len(data.videos), data.target_names.tolist()[:2], data.hardness_unit
+    (10, ['0.44', '0.68'], 'mm/N')
     >>> video = data.videos[0]
     >>> video.shape[1:], video.dtype, len(data.force[0]) == len(video)
     ((48, 64, 3), dtype('uint8'), True)
@@ -451,12 +381,9 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_si
     sim = _Simulation(params, image_size, bool(markers), sensor_seeds, pp["sensor"], mechanics,
                       centers, render_seeds)
     unit = params["hardness_unit"]
-    if unit == "mm/N":
-        names = np.array([f"{h:.2f} mm/N" for h in hardness])
-    else:
-        names = np.array([f"{unit} {h:g}" for h in hardness])
+    names = np.array([f"{h:g}" for h in hardness])
     data = Bunch(
-        videos=SimulatedPressVideos(sim, np.arange(n)),
+        videos=SimulatedPressVideos(sim.render, list(range(n))),
         target=target,
         target_names=names,
         hardness=hardness.copy(),

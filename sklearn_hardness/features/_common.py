@@ -62,21 +62,25 @@ def sample_range(X, value_range):
 
 
 def to_grey(X):
-    """(n, k, H, W, C) float -> (n, k, H, W) float32 grey (BT.601 weights for RGB)."""
+    """(n, k, H, W, C) float -> new (n, k, H, W) float32 grey array (BT.601 weights for RGB)."""
     if X.shape[-1] == 1:
-        return X[..., 0].astype(np.float32, copy=False)
+        return X[..., 0].astype(np.float32, copy=True)
     return np.tensordot(X, _GREY_WEIGHTS, axes=([-1], [0])).astype(np.float32, copy=False)
 
 
 def to_uint8_grey(X, value_range):
-    """(n, k, H, W, C) float -> (n, k, H, W) uint8 grey with one scaling per sample."""
-    grey = to_grey(X)
-    # Grey is a convex combination of the channels, so the per-sample range of
-    # the colour frames also bounds the grey frames; use the grey range itself.
-    lo, hi = sample_range(grey, value_range)
-    out = np.empty(grey.shape, dtype=np.uint8)
-    for i in range(grey.shape[0]):  # per sample keeps the float temporaries small
-        g = (grey[i] - lo[i]) * (255.0 / (hi[i] - lo[i]))
-        np.clip(np.rint(g), 0, 255, out=g)
+    """(n, k, H, W, C) float -> (n, k, H, W) uint8 grey with one scaling per sample.
+
+    Works one sample at a time, so the only large allocation is the uint8
+    output (a quarter of one channel of the input).
+    """
+    fixed = check_value_range(value_range)
+    out = np.empty(X.shape[:4], dtype=np.uint8)
+    for i in range(X.shape[0]):
+        g = to_grey(X[i : i + 1])[0]  # a new array: scaled in place below
+        lo, hi = sample_range(g[np.newaxis], fixed)
+        g -= lo[0]
+        g *= 255.0 / (hi[0] - lo[0])
+        np.clip(np.rint(g, out=g), 0, 255, out=g)
         out[i] = g
     return out

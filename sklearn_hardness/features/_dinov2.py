@@ -37,7 +37,12 @@ class DINOv2Features(TransformerMixin, BaseEstimator):
     The backbone is loaded once in :meth:`fit` and never trained; features
     are computed once per sample by :meth:`transform` (in a
     :class:`~sklearn.pipeline.Pipeline` the classifier then trains all its
-    epochs and Monte-Carlo-dropout passes on the cached array).
+    epochs and Monte-Carlo-dropout passes on the cached array). Where a
+    pipeline is fitted again and again on growing subsets of the same
+    presses (active learning), transform all presses once and train the
+    classifier on the array, or give the pipeline a ``memory`` so that
+    refits reuse the features (this needs ``model`` as an id or directory:
+    joblib does not hash an ``nn.Module`` the same after cloning).
 
     Parameters
     ----------

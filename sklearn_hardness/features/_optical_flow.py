@@ -116,6 +116,12 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
     pixels (x to the right, y down). :meth:`get_feature_names_out` names
     every column (``"c0_t1_dx"``, ...).
 
+    **Which frames.** Corners are found in the first selected frame. With
+    ``ContactFrameSelector(subtract_first=True)`` the frames are differences
+    to the pre-contact frame, so the corners come from what has changed by
+    the start of contact; to track the gel's markers themselves, select raw
+    frames (``subtract_first=False``).
+
     **Padding.** Nothing is ever NaN. If a sample has fewer than
     ``n_features`` corners (small or smooth frames, or a flat sample where
     all frames are constant: no corners at all), the missing corners are

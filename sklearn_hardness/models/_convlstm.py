@@ -125,17 +125,16 @@ class ConvLSTMNet(torch.nn.Module):
     def forward(self, X, n_replicas=1):
         """Logits (n_replicas * B, n_classes), replica-major.
 
-        The first layer's input convolution is deterministic; it is computed
-        once per input and tiled ``n_replicas`` times. Everything after the
-        first dropout must run per replica.
+        The first ConvLSTM layer comes before any dropout, so it is
+        deterministic: it runs once per input and its hidden states are tiled
+        ``n_replicas`` times. Everything after the first dropout runs per
+        replica (each row draws its own masks).
         """
         x = X.permute(0, 1, 4, 2, 3)  # (B, T, C, H, W)
-        first = self.layers[0]
-        xp = first.project_input(x)
-        if n_replicas > 1:
-            xp = xp.repeat(n_replicas, 1, 1, 1, 1)
         n = len(self.layers)
-        seq = first.recur(xp, return_sequence=n > 1)
+        seq = self.layers[0](x, return_sequence=n > 1)
+        if n_replicas > 1:
+            seq = seq.repeat((n_replicas,) + (1,) * (seq.dim() - 1))
         seq = self.dropouts[0](seq)
         for li in range(1, n):
             seq = self.layers[li](seq, return_sequence=li < n - 1)

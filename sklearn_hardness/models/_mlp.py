@@ -45,7 +45,9 @@ class MLPHead(torch.nn.Module):
         """
         h = torch.relu(self.hidden(X))
         if n_replicas > 1:
-            h = h.repeat(n_replicas, 1)
+            # a broadcast view, no copy: dropout's product materialises the replicas
+            h = h.unsqueeze(0).expand(n_replicas, -1, -1)
+            return self.out(self.dropout(h)).reshape(-1, self.out.out_features)
         return self.out(self.dropout(h))
 
 

@@ -208,9 +208,11 @@ def check_frames_array(X, *, name="X", n_frames=None, frame_shape=None, dtype=np
             "seen during fit."
         )
     arr = arr.astype(dtype, copy=False)
-    if not np.isfinite(arr).all():
-        bad = np.unique(np.nonzero(~np.isfinite(arr.reshape(arr.shape[0], -1)))[0])
-        raise ValueError(f"{name} contains NaN or infinite values in sample(s) {bad[:10].tolist()}.")
+    if np.issubdtype(arr.dtype, np.floating):
+        # one sample at a time: a whole-array isfinite would allocate a mask as large as X
+        bad = [i for i in range(arr.shape[0]) if not np.isfinite(arr[i]).all()]
+        if bad:
+            raise ValueError(f"{name} contains NaN or infinite values in sample(s) {bad[:10]}.")
     return arr
 
 

@@ -1,0 +1,99 @@
+"""Benchmark: simulating and materialising the whole silicone5 set.
+
+Times ``make_presses("silicone5")`` (455 presses) and rendering every video
+at 240x320 (iterating over the lazy sequence, as a pipeline's ``fit`` does),
+with peak RSS (``ru_maxrss``) side by side. The "error" column is the
+realism check of issue 3: 5-fold accuracy of a logistic regression on one
+scalar (the peak of the contact curve) against the same model on the four
+frames ContactFrameSelector picks (at 48x64 for speed; ``--no-check`` skips it).
+
+    python benchmarks/bench_simulator.py [--image-size 240 320] [--n-jobs 1] [--no-check]
+
+Targets (issue 3): under 30 s and under 3 GB peak RSS on 2 cores.
+"""
+
+import argparse
+import resource
+import time
+
+import numpy as np
+from joblib import Parallel, delayed
+from threadpoolctl import threadpool_limits
+
+
+def _rss_mb():
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+def _frames(videos):
+    return sum(len(v) for v in videos)
+
+
+def _check(seed=0):
+    from sklearn.linear_model import LogisticRegression
+    from sklearn.model_selection import StratifiedKFold, cross_val_score
+    from sklearn.pipeline import make_pipeline
+    from sklearn.preprocessing import StandardScaler
+
+    from sklearn_hardness.datasets import make_presses
+    from sklearn_hardness.preprocessing import ContactFrameSelector
+
+    data = make_presses("silicone5", image_size=(48, 64), random_state=seed)
+    sel = ContactFrameSelector(output_size=(12, 16))
+    X = sel.fit_transform(data.videos).reshape(len(data.videos), -1)
+    peak = np.array([[c.max()] for c in sel.selection_.curves])
+    force = np.array([[f.max()] for f in data.force])
+    cv = StratifiedKFold(5, shuffle=True, random_state=0)
+    clf = make_pipeline(StandardScaler(), LogisticRegression(max_iter=500))
+    with threadpool_limits(1):
+        out = {name: cross_val_score(clf, feats, data.target, cv=cv).mean()
+               for name, feats in [("peak intensity change", peak), ("peak force", force),
+                                   ("4 selected frames", X)]}
+    return out, bool(sel.selection_.contact_found.all())
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--image-size", type=int, nargs=2, default=(240, 320))
+    parser.add_argument("--n-jobs", type=int, default=1, help="render in parallel (joblib) when > 1")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--no-check", action="store_true", help="skip the classification check")
+    args = parser.parse_args()
+
+    from sklearn_hardness.datasets import make_presses
+
+    rss_import = _rss_mb()
+    t0 = time.perf_counter()
+    data = make_presses("silicone5", image_size=tuple(args.image_size), random_state=args.seed)
+    t_make = time.perf_counter() - t0
+    rss_make = _rss_mb()
+    t0 = time.perf_counter()
+    if args.n_jobs > 1:
+        chunks = np.array_split(np.arange(len(data.videos)), 4 * args.n_jobs)
+        n_frames = sum(Parallel(n_jobs=args.n_jobs)(delayed(_frames)(data.videos[c]) for c in chunks))
+    else:
+        n_frames = _frames(data.videos)
+    t_render = time.perf_counter() - t0
+    rss_render = _rss_mb()
+    h, w = args.image_size
+    print(f"silicone5: {len(data.videos)} presses, {n_frames} frames at {h}x{w}, n_jobs={args.n_jobs} "
+          f"(RSS after imports {rss_import:.0f} MB)")
+    print(f"{'step':<34}{'time (s)':>10}{'ms/video':>10}{'peak RSS (MB)':>15}")
+    n = len(data.videos)
+    print(f"{'make_presses (mechanics)':<34}{t_make:>10.2f}{1000 * t_make / n:>10.1f}{rss_make:>15.0f}")
+    print(f"{'render all videos (iterate)':<34}{t_render:>10.2f}{1000 * t_render / n:>10.1f}{rss_render:>15.0f}")
+    total = t_make + t_render
+    print(f"{'total':<34}{total:>10.2f}{1000 * total / n:>10.1f}{rss_render:>15.0f}"
+          f"   target: < 30 s, < 3000 MB")
+    if not args.no_check:
+        t0 = time.perf_counter()
+        acc, found = _check(args.seed)
+        dt = time.perf_counter() - t0
+        print(f"\nclassification check (silicone5 at 48x64, 455 presses, 5-fold logistic regression; "
+              f"chance 0.20; {dt:.1f} s); contact found on every press: {found}")
+        for name, a in acc.items():
+            print(f"  {name:<24} accuracy {a:.3f}")
+
+
+if __name__ == "__main__":
+    main()

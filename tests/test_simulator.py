@@ -1,0 +1,297 @@
+"""Tests of the physics-based press simulator (``make_presses``) and ``simulate`` CLI."""
+
+import pickle
+
+import numpy as np
+import pytest
+from sklearn.linear_model import LogisticRegression
+from sklearn.model_selection import StratifiedKFold, cross_val_score, train_test_split
+from sklearn.pipeline import make_pipeline
+from sklearn.preprocessing import FunctionTransformer, StandardScaler
+from sklearn.utils import _safe_indexing
+from threadpoolctl import threadpool_limits
+
+from sklearn_hardness._cli import main
+from sklearn_hardness.datasets import load_press_videos, make_presses
+from sklearn_hardness.datasets._sim_optics import hertz_profiles
+from sklearn_hardness.datasets._sim_presets import (
+    PARAM_SPECS,
+    modulus_to_compliance,
+    shore00_to_modulus,
+)
+from sklearn_hardness.datasets._simulator import SimulatedPressVideos
+from sklearn_hardness.preprocessing import ContactFrameSelector
+
+SMALL = (48, 64)
+
+
+@pytest.fixture(scope="module")
+def small():
+    return make_presses(n_per_class=3, image_size=SMALL, random_state=0, return_mechanics=True)
+
+
+def test_bunch_fields_shapes_and_dtypes(small):
+    n = 15
+    assert len(small.videos) == n and small.videos.shape == (n,)
+    assert small.target.dtype.kind == "i" and set(small.target) == set(range(5))
+    np.testing.assert_allclose(small.hardness, [0.44, 0.68, 0.79, 1.02, 1.13])
+    assert small.target_names.tolist() == ["0.44", "0.68", "0.79", "1.02", "1.13"]
+    assert small.hardness_unit == "mm/N" and small.fps == 25.0
+    assert len(small.force) == len(small.timestamps) == len(small.mechanics) == n
+    assert small.object_id.shape == (n,)
+    assert "silicone5" in small.DESCR and "Hertz" in small.DESCR
+    for key in ("F_push", "v_push", "compliance_object", "force_peak", "offset_x", "n_before"):
+        assert small.press_params[key].shape == (n,)
+    lengths = set()
+    for i, video in enumerate(small.videos):
+        assert video.dtype == np.uint8 and video.shape[1:] == (*SMALL, 3)
+        assert len(video) == len(small.force[i]) == len(small.timestamps[i])
+        lengths.add(len(video))
+    assert len(lengths) > 1  # presses differ in duration
+    # sampled parameters follow the preset's ranges
+    assert np.all((small.press_params["F_push"] >= 1) & (small.press_params["F_push"] <= 5))
+    assert np.all((small.press_params["v_push"] >= 20) & (small.press_params["v_push"] <= 50))
+
+
+def test_same_seed_same_data_in_any_order():
+    kw = dict(n_per_class=2, image_size=SMALL, random_state=7)
+    a, b = make_presses(**kw), make_presses(**kw)
+    for i in reversed(range(len(b.videos))):  # other order, and b.videos[3] read before b.videos[0]
+        np.testing.assert_array_equal(a.videos[i], b.videos[i])
+    np.testing.assert_array_equal(a.videos[2], a.videos[2])  # re-rendering gives the same frames
+    for key, value in a.press_params.items():
+        np.testing.assert_array_equal(value, b.press_params[key])
+    for fa, fb in zip(a.force, b.force):
+        np.testing.assert_array_equal(fa, fb)
+    c = make_presses(n_per_class=2, image_size=SMALL, random_state=8)
+    assert not np.array_equal(a.press_params["F_push"], c.press_params["F_push"])
+
+
+def test_timestamps_at_frame_rate(small):
+    for t in small.timestamps:
+        assert t[0] == 0.0 and np.all(np.diff(t) > 0)
+        np.testing.assert_allclose(np.diff(t), 1 / 25, atol=0.003)
+    shore = make_presses("shore9", n_per_class=1, image_size=SMALL, random_state=0)
+    np.testing.assert_allclose(np.diff(shore.timestamps[0]), 1 / 30, atol=0.003)
+
+
+def test_force_reaches_target_with_overshoot_and_zero_out_of_contact(small):
+    pp = small.press_params
+    assert np.all(pp["force_peak"] >= pp["F_push"])  # stop is triggered by a lagged estimate
+    assert np.all(pp["force_peak"] <= 3 * pp["F_push"])
+    assert np.mean(pp["force_peak"] / pp["F_push"]) > 1.05
+    for i, mech in enumerate(small.mechanics):
+        assert mech["force_true"][0] == 0 and mech["force_true"][-1] == 0  # frames before/after
+        assert mech["force_true"].max() <= pp["force_peak"][i] + 1e-9
+        n_before = pp["n_before"][i]
+        assert np.all(mech["approach"][:n_before] == 0) and mech["approach"][n_before] > 0
+        # recorded force = true force + sensor noise
+        assert np.std(small.force[i] - mech["force_true"]) < 0.2
+
+
+def test_softer_objects_indent_more_at_equal_force():
+    data = make_presses(n_per_class=2, image_size=SMALL, random_state=1, return_mechanics=True,
+                        force_range=(3, 3), object_spread=0, press_spread=0)
+    comp = data.press_params["compliance_object"]
+    # Per frame in contact, indentations follow delta = c F^(2/3) (c at 1 N): the object's
+    # part scales with its compliance, the gel's part is the same for every object.
+    obj, gel, total = [], [], []
+    for mech in data.mechanics:
+        f = mech["force_true"]
+        on = f > 0.5
+        obj.append(np.mean(mech["object_indentation"][on] / f[on] ** (2 / 3)))
+        gel.append(np.mean(mech["gel_indentation"][on] / f[on] ** (2 / 3)))
+        total.append(np.mean(mech["approach"][on] / f[on] ** (2 / 3)))
+    np.testing.assert_allclose(obj, comp, rtol=1e-3)
+    np.testing.assert_allclose(gel, gel[0], rtol=1e-3)
+    classes = np.unique(comp)  # sorted: harder to softer
+    per_class = [np.mean(np.array(total)[comp == c]) for c in classes]
+    assert np.all(np.diff(per_class) > 0)
+    # at the same peak force, the softer object gives the larger contact
+    radius = np.array([m["contact_radius"].max() for m in data.mechanics])
+    f_peak = np.array([m["force_true"].max() for m in data.mechanics])
+    per_class = [np.mean((radius / f_peak ** (1 / 3))[comp == c]) for c in classes]
+    assert np.all(np.diff(per_class) > 0)
+
+
+def test_contact_radius_follows_total_approach(small):
+    for i, mech in enumerate(small.mechanics):
+        r = small.press_params["dome_radius"][i]
+        np.testing.assert_allclose(mech["contact_radius"], np.sqrt(r * mech["approach"]))
+        load = slice(small.press_params["n_before"][i], int(np.argmax(mech["approach"])) + 1)
+        assert np.all(np.diff(mech["contact_radius"][load]) > 0)
+        share = mech["gel_indentation"][mech["approach"] > 0] / mech["approach"][mech["approach"] > 0]
+        c_g, c_o = small.press_params["compliance_gel"][i], small.press_params["compliance_object"][i]
+        np.testing.assert_allclose(share, c_g / (c_g + c_o))
+
+
+def test_rendered_contact_is_larger_for_softer_object():
+    # Same force, speed and lag; the peak is held for several frames. The shading change
+    # is strongest at the contact edge (largest gel slope): its radius grows with compliance.
+    size = (96, 128)
+    data = make_presses(n_per_class=1, image_size=size, random_state=2, hardness=[0.44, 0.79, 1.13],
+                        force_range=(3, 3), speed_range=(30, 30), force_lag_range=(0.02, 0.02),
+                        hold_range=(0.2, 0.2), noise_std=0, drift_amplitude=0, contact_offset=0,
+                        markers=False, return_mechanics=True)
+    yy, xx = np.mgrid[0 : size[0], 0 : size[1]]
+    ring = np.hypot(yy - (size[0] - 1) / 2, xx - (size[1] - 1) / 2).astype(int)
+    edge = {}
+    for i, target in enumerate(data.target):
+        video = data.videos[i].astype(np.float32)
+        k = int(np.argmax(data.mechanics[i]["force_true"]))
+        change = np.abs(video[k] - video[0]).sum(axis=-1)
+        profile = np.bincount(ring.ravel(), change.ravel()) / np.bincount(ring.ravel())
+        edge[target] = int(np.argmax(profile[:60]))
+        expected = data.mechanics[i]["contact_radius"][k] * size[1] / 18.6
+        assert abs(edge[target] - expected) < 4
+    assert edge[0] < edge[1] < edge[2]
+
+
+def test_noise_drift_and_markers_overrides():
+    quiet = make_presses(n_per_class=1, image_size=SMALL, random_state=3, noise_std=0,
+                         drift_amplitude=0, markers=False)
+    video = quiet.videos[0]
+    n_before = quiet.press_params["n_before"][0]
+    assert np.array_equal(video[0], video[n_before - 1])  # no contact yet: the same background
+    assert not np.array_equal(video[0], video[np.argmax(quiet.force[0])])
+    noisy = make_presses(n_per_class=1, image_size=SMALL, random_state=3, markers=False)
+    diff = noisy.videos[0][1].astype(float) - noisy.videos[0][0]
+    assert 0.8 < diff.std() < 3.0  # two noise draws of s.d. 1.5
+    marked = make_presses(n_per_class=1, image_size=SMALL, random_state=3)
+    assert marked.videos[0][0].min() < 0.6 * video[0].min()  # dark markers
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, match",
+    [
+        (dict(preset="granite"), ValueError, "Unknown preset"),
+        (dict(gel_complianse=0.3), TypeError, "Unknown simulator parameter"),
+        (dict(gel_compliance=-0.3), ValueError, "gel_compliance"),
+        (dict(force_range=(5, 1)), ValueError, "force_range"),
+        (dict(force_range=(1, 500)), ValueError, "force_range"),
+        (dict(fps="fast"), TypeError, "fps"),
+        (dict(hardness=[1.0, 1.0]), ValueError, "distinct"),
+        (dict(preset="shore9", hardness=[8, 120]), ValueError, "hardness"),
+        (dict(image_size=(4, 4)), ValueError, "image_size"),
+        (dict(image_size=(48.5, 64)), TypeError, "image_size"),
+        (dict(n_per_class=0), ValueError, "n_per_class"),
+        (dict(markers="yes"), TypeError, "markers"),
+        (dict(marker_radius=1.0, marker_spacing=1.5), ValueError, "overlap"),
+    ],
+)
+def test_bad_parameters_raise_clear_errors(kwargs, error, match):
+    kwargs = dict(dict(n_per_class=1, image_size=SMALL), **kwargs)
+    with pytest.raises(error, match=match):
+        make_presses(**kwargs)
+
+
+def test_every_parameter_is_overridable():
+    from sklearn_hardness.datasets._sim_presets import PRESETS
+
+    for name in PARAM_SPECS:
+        assert name in PRESETS["silicone5"] and name in PRESETS["shore9"]
+    data = make_presses(n_per_class=1, image_size=SMALL, random_state=0, hardness=[0.3, 2.0],
+                        gel_compliance=0.5)
+    assert data.target_names.tolist() == ["0.3", "2"]
+    assert np.all(data.press_params["compliance_gel"] > 0.35)
+
+
+def test_lazy_videos_work_with_sklearn_indexing(small):
+    videos, y = small.videos, small.target
+    Xtr, Xte, ytr, yte = train_test_split(videos, y, test_size=5, stratify=y, random_state=0)
+    assert isinstance(Xtr, SimulatedPressVideos) and len(Xtr) == 10 and len(Xte) == 5
+    for j, i in enumerate(Xte.indices):
+        np.testing.assert_array_equal(Xte[j], videos[i])
+        assert yte[j] == y[i]
+    mask = y == 2
+    sub = _safe_indexing(videos, mask)
+    assert isinstance(sub, SimulatedPressVideos) and len(sub) == mask.sum()
+    np.testing.assert_array_equal(sub[-1], videos[np.flatnonzero(mask)[-1]])
+    assert len(videos[2:5]) == 3 and len(videos[np.array([], dtype=int)]) == 0
+    with pytest.raises(IndexError):
+        videos[15]
+    clone = pickle.loads(pickle.dumps(videos[[4, 1]]))
+    np.testing.assert_array_equal(clone[1], videos[1])
+
+
+def test_cross_val_score_on_lazy_videos(small):
+    pipe = make_pipeline(
+        ContactFrameSelector(output_size=(6, 8), color="gray"),
+        FunctionTransformer(lambda X: X.reshape(len(X), -1)),
+        LogisticRegression(max_iter=200),
+    )
+    with threadpool_limits(1):
+        scores = cross_val_score(pipe, small.videos, small.target, cv=3)
+    assert scores.shape == (3,) and np.all(np.isfinite(scores))
+
+
+def test_hardness_is_not_readable_from_one_scalar():
+    """The documented check: one scalar (peak intensity change) is far worse than frames.
+
+    On silicone5 at 48x64, 24 presses per object, 5-fold CV, a logistic regression on
+    the peak of the contact curve alone scores about chance (0.2-0.35), while the
+    same model on the 4 selected difference frames (12x16) scores about 0.7-0.8.
+    """
+    data = make_presses(n_per_class=24, image_size=SMALL, random_state=1)
+    selector = ContactFrameSelector(output_size=(12, 16))
+    X = selector.fit_transform(data.videos)
+    assert selector.selection_.contact_found.all()
+    peak = np.array([[c.max()] for c in selector.selection_.curves])
+    cv = StratifiedKFold(5, shuffle=True, random_state=0)
+    clf = make_pipeline(StandardScaler(), LogisticRegression(max_iter=300))
+    with threadpool_limits(1):  # BLAS threads thrash on a busy 2-core machine
+        acc_peak = cross_val_score(clf, peak, data.target, cv=cv).mean()
+        acc_frames = cross_val_score(clf, X.reshape(len(X), -1), data.target, cv=cv).mean()
+    assert acc_peak < 0.45
+    assert acc_frames > acc_peak + 0.2
+
+
+def test_contact_found_on_every_shore9_press():
+    data = make_presses("shore9", n_per_class=2, image_size=SMALL, random_state=4)
+    selection = ContactFrameSelector().fit(data.videos).selection_
+    assert selection.contact_found.all()
+    # the selected peak is the frame of (nearly) maximum force
+    for i, peak in enumerate(selection.contact_peak):
+        assert data.force[i][peak] > 0.5 * data.force[i].max()
+
+
+def test_shore00_conversion():
+    e = shore00_to_modulus([8, 17, 27, 46, 62, 73, 81, 87, 95])
+    assert np.all(np.diff(e) > 0)
+    assert 0.01 < e[0] < 0.1 and 0.1 < shore00_to_modulus(50) < 0.5 and 5 < e[-1] < 20
+    c = modulus_to_compliance(e, 15.0)
+    assert np.all(np.diff(c) < 0)
+    with pytest.raises(ValueError, match="Shore 00"):
+        shore00_to_modulus(100)
+
+
+def test_hertz_profile_is_continuous_and_tapered():
+    slope, shift = hertz_profiles(np.array([0.0, 0.999999, 1.000001, 2.5, 3.0]))
+    np.testing.assert_allclose(slope[:3], [0.0, -1.0, -1.0], atol=5e-3)
+    np.testing.assert_allclose(shift[:3], [0.0, 1.0, 1.0], atol=1e-3)
+    assert slope[3] == slope[4] == 0 and shift[4] == 0
+
+
+@pytest.mark.parametrize("fmt, exact", [("avi", True), ("npy", True), ("mp4", False)])
+def test_cli_simulate_round_trip(tmp_path, fmt, exact):
+    out = tmp_path / "sim"
+    rc = main(["simulate", "--out", str(out), "--n-per-class", "1", "--image-size", "48", "64",
+               "--seed", "5", "--format", fmt])
+    assert rc == 0
+    data = make_presses(n_per_class=1, image_size=SMALL, random_state=5)
+    loaded = load_press_videos(out / "manifest.csv")
+    assert loaded.target_names.tolist() == data.target_names.tolist()
+    np.testing.assert_array_equal(loaded.target, data.target)
+    np.testing.assert_allclose(loaded.hardness, data.hardness)
+    assert loaded.hardness_unit == "mm/N"
+    np.testing.assert_array_equal(loaded.object_id, data.object_id)
+    np.testing.assert_array_equal(loaded.fps, 25.0)
+    for i in range(len(data.videos)):
+        np.testing.assert_array_equal(loaded.force[i], data.force[i])
+        np.testing.assert_array_equal(loaded.timestamps[i], data.timestamps[i])
+        a, b = loaded.videos[i], data.videos[i]
+        assert a.shape == b.shape
+        if exact:
+            np.testing.assert_array_equal(a, b)
+        else:  # lossy mp4v: close, not equal
+            assert np.abs(a.astype(float) - b).mean() < 6
