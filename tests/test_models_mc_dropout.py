@@ -243,3 +243,14 @@ def test_device_auto_is_kept_as_parameter(case):
     restored = pickle.loads(pickle.dumps(net))
     assert restored.get_params()["device"] == "auto"
     np.testing.assert_allclose(restored.predict_proba(X), net.predict_proba(X))
+
+
+def test_warm_start_fit_continues(case):
+    cls, kind, kw, X, y, _ = case
+    net = cls(warm_start=True, random_state=0, **kw).fit(X, y)
+    module = net.module_
+    net.fit(X, y)
+    assert net.module_ is module
+    assert len(net.history) == 2 * kw["max_epochs"]
+    with pytest.raises(ValueError):
+        net.fit(X[:, :2] if kind == "frames" else X[:, :4], y)

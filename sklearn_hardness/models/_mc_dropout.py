@@ -357,8 +357,9 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
         y : array-like of shape (n_samples,)
             Labels of any sortable type (ints, strings).
         **fit_params : dict
-            Passed on to skorch (e.g. ``epochs=`` is not used here; use
-            ``max_epochs`` or :meth:`partial_fit`).
+            Passed on to skorch's fit loop and the module's ``forward``. To
+            train for a given number of epochs without re-initialising, use
+            :meth:`partial_fit` with ``epochs=``.
 
         Returns
         -------
