@@ -40,13 +40,14 @@ print(data.target_names, data.hardness, data.hardness_unit)
 # --------------
 # A run is (strategy, test object, seed). Runs with the same test object and
 # seed share the test presses, the initial presses and the initial training,
-# so the strategies are compared on paired runs. ``n_jobs`` runs them in
+# so the strategies are compared on paired runs. With one seed per test
+# object the numbers below are anecdotes; the paper averages 50 runs. ``n_jobs`` runs them in
 # parallel through joblib; ``results_path`` would make the experiment
 # resumable.
 result = run_active_sampling(
     data,
     model="convlstm",
-    strategies=("variance", "entropy", "random"),
+    strategies=("variance", "random"),
     n_runs=1,
     n_iterations=2,
     n_per_query=5,
@@ -55,6 +56,9 @@ result = run_active_sampling(
     lr=3e-3,
     n_mc_samples=10,
     frame_size=(9, 12),
+    # With 30 epochs most runs end above the paper's convergence threshold
+    # (training loss 1): keep them all here instead of skipping them.
+    convergence_threshold=None,
     n_jobs=2,
     verbose=0,
 )

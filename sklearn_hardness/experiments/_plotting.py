@@ -65,9 +65,12 @@ def plot_active_sampling(result, metric="accuracy", ax=None, band="std"):
                 lo, hi = np.clip(lo, 0, 100), np.clip(hi, 0, 100)
             ax.fill_between(it, lo, hi, color=line.get_color(), alpha=0.15)
     ax.set_xlabel("active sampling iteration")
+    if not ax.get_lines():
+        ax.text(0.5, 0.5, "no converged runs", ha="center", va="center", transform=ax.transAxes)
     unit = (result.config or {}).get("hardness_unit") if metric == "mae" else None
     ax.set_ylabel(_LABELS[metric] + (" (%)" if metric == "accuracy" else f" ({unit})" if unit else ""))
-    ax.legend(fontsize="small")
+    if ax.get_lines():
+        ax.legend(fontsize="small")
     ax.grid(alpha=0.3)
     return ax
 
