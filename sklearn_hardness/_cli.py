@@ -248,10 +248,45 @@ def _run_simulate(args):
     return 0
 
 
+def _add_benchmark(sub):
+    p = sub.add_parser(
+        "benchmark",
+        help="time one active-sampling run (wall, CPU, peak memory, accuracy)",
+        description="Prepare the frames of all presses of a preset, then run one active-sampling run "
+        "with the preset's hyperparameters and print its wall time, CPU time, peak memory and accuracy "
+        "per iteration. benchmarks/bench_active_sampling.py has more (paired seeds, confidence intervals).",
+    )
+    p.add_argument("--preset", default="silicone5", choices=["silicone5", "shore9"])
+    p.add_argument("--model", default=None, choices=["convlstm", "ofnn", "dinov2nn"])
+    p.add_argument("--strategy", default="variance")
+    p.add_argument("--quick", action="store_true", help="the reproduce --quick settings")
+    p.add_argument("--threads", type=int, default=None, help="torch threads (default: torch's)")
+    p.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="configuration overrides")
+    return p
+
+
+def _run_benchmark(args):
+    from .experiments._benchmark import time_active_sampling_run
+
+    rep = time_active_sampling_run(args.preset, model=args.model, strategy=args.strategy, quick=args.quick,
+                                   n_threads=args.threads, **_parse_set(args.set))
+    cfg, r = rep["config"], rep["record"]
+    print(f"{args.preset}: {cfg['model']}, strategy {args.strategy}, e0={cfg['initial_epochs']} "
+          f"e={cfg['epochs_per_query']} M={cfg['max_reservoir']} N={cfg['n_iterations']} "
+          f"MC={cfg['n_mc_samples']}, torch threads {rep['torch_threads']}" + (" [quick]" if args.quick else ""))
+    print(f"prepare all presses  {rep['prepare_s']:8.1f} s")
+    print(f"one run              {rep['run_wall_s']:8.1f} s wall, {rep['run_cpu_s']:.1f} s CPU; "
+          f"peak RSS {rep['peak_rss_mib']:.0f} MiB")
+    print(f"converged {r['converged']} (initial loss {r['initial_train_loss']:.3f}); accuracy per iteration "
+          f"{[round(a, 2) for a in r['accuracy']]}; queried {r['queried']}")
+    return 0
+
+
 _SUBCOMMANDS = {
     "select": (_add_select, _run_select),
     "simulate": (_add_simulate, _run_simulate),
     "reproduce": (_add_reproduce, _run_reproduce),
+    "benchmark": (_add_benchmark, _run_benchmark),
 }
 
 

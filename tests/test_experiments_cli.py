@@ -61,3 +61,16 @@ def test_reproduce_help_and_bad_input(capsys, tmp_path):
         main(["reproduce", "--set", "n_iteration=2", "--out", str(tmp_path)])
     with pytest.raises(ValueError, match="strategy"):
         main(["reproduce", "--strategies", "margin", "--out", str(tmp_path), "--dataset", "x.csv"])
+
+
+def test_benchmark_subcommand(capsys, monkeypatch):
+    # a tiny preset-free check of the command's wiring: override the simulator size through --set
+    from sklearn_hardness.experiments import _data
+
+    monkeypatch.setattr(_data, "load_dataset", lambda dataset, cfg: tiny_presses())
+    args = ["benchmark", "--model", "ofnn", "--set", "n_iterations=1", "n_per_query=2", "n_initial=2",
+            "n_test=2", "initial_epochs=2", "epochs_per_query=1", "n_mc_samples=3", "frame_size=(16,20)",
+            "data_seed=12345"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "one run" in out and "peak RSS" in out and "accuracy per iteration" in out
