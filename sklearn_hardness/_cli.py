@@ -168,6 +168,7 @@ def _run_reproduce(args):
     paths = save_figures(result, args.out)
     print(f"wrote {results_path}, table.txt, config.json and {len(paths)} figures to {args.out} "
           f"({time.time() - t0:.0f} s)")
+    return 0
 
 
 _SIM_FORMATS = {"avi": ".avi", "mp4": ".mp4", "png": "", "npy": ".npy"}

@@ -27,7 +27,7 @@ run_active_sampling(tiny_presses(), results_path=sys.argv[1], n_jobs=1, verbose=
 """
 
 EXPERIMENT = dict(model="ofnn", strategies=("variance", "random"), test_classes=[0, 4],
-                  n_runs=3, **dict(TINY, initial_epochs=30, epochs_per_query=15))
+                  n_runs=3, **dict(TINY, initial_epochs=10, epochs_per_query=5))
 N_KEYS = 2 * 2 * 3
 
 

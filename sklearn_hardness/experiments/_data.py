@@ -193,7 +193,7 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1):
     else:
         memo_key = joblib.hash((spec, frame_params, feature_params))
         if memo_key in _MEMO:
-            X, y = _MEMO[memo_key]
+            X, y, data = _MEMO[memo_key]
         else:
             if memory is not None:
                 mem = memory if isinstance(memory, joblib.Memory) else joblib.Memory(memory, verbose=0)
@@ -202,10 +202,11 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1):
                 )
             else:
                 X, y = _compute(spec, dataset, cfg, frame_params, feature_params, verbose)
-            _MEMO[memo_key] = (X, y)
+            data = load_dataset(dataset, cfg)  # lazy videos: metadata only
+            data = {k: data.get(k) for k in ("target_names", "hardness", "hardness_unit")}
+            _MEMO[memo_key] = (X, y, data)
             while len(_MEMO) > _MEMO_MAX:
                 _MEMO.pop(next(iter(_MEMO)))
-        data = load_dataset(dataset, cfg)  # cheap: lazy videos, metadata only
     if model == "convlstm" and cfg.get("input_scale") == "std":
         std = float(np.std(X))
         if std > 0:
