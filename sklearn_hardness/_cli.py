@@ -53,6 +53,124 @@ def _run_select(args):
     return 0
 
 
+def _quick_help():
+    from .experiments import QUICK_OVERRIDES
+
+    return ", ".join(f"{k}={v}" for k, v in QUICK_OVERRIDES.items())
+
+
+def _add_reproduce(sub):
+    from .experiments import STRATEGIES
+
+    p = sub.add_parser(
+        "reproduce",
+        help="run the paper's active-sampling experiment and print its comparison table",
+        description="Run the active-sampling experiment of the paper (Algorithm 1, Sec. III) on the "
+        "built-in simulator (or on your recordings with --dataset), print the comparison table "
+        "(no resampling, variance, entropy, random, BALD, and the paper's human accuracy) and write "
+        "figures and the results file to --out. Every finished run is appended to "
+        "OUT/results.jsonl: rerun the same command to resume after an interruption.",
+    )
+    p.add_argument("--preset", default="silicone5", choices=["silicone5", "shore9"],
+                   help="the paper's setup: silicone5 (robot data, ConvLSTM, e0=100, e=50, M=40) or "
+                   "shore9 (Yuan's data, DINOv2NN, e0=50, e=25, M=80). Default silicone5.")
+    p.add_argument("--dataset", default=None,
+                   help="manifest CSV of real recordings (see load_press_videos); default: the "
+                   "simulator with the preset's objects")
+    p.add_argument("--model", default=None, choices=["convlstm", "ofnn", "dinov2nn"],
+                   help="classifier (default: the preset's)")
+    p.add_argument("--dinov2-model", default=None,
+                   help="DINOv2 weights for dinov2nn: a Hugging Face id in the local cache or a local "
+                   "directory (default facebook/dinov2-small)")
+    p.add_argument("--out", default="hardness_results", help="output folder (default ./hardness_results)")
+    p.add_argument("--quick", action="store_true",
+                   help=f"a first look in a few minutes on 2 cores; changes: {_quick_help()} "
+                   "(smaller simulated images and frames, fewer epochs, MC passes and runs)")
+    p.add_argument("--n-runs", type=int, default=None, help="seeds per test object (default: the preset's)")
+    p.add_argument("--n-jobs", type=int, default=None,
+                   help="parallel runs (joblib; -1: all cores). Default: 1")
+    p.add_argument("--strategies", nargs="+", default=list(STRATEGIES),
+                   help=f"strategies to compare (default: {' '.join(STRATEGIES)})")
+    p.add_argument("--epochs", type=int, nargs=2, default=None, metavar=("E0", "E"),
+                   help="initial epochs and epochs per iteration (override)")
+    p.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE",
+                   help="override any configuration key, e.g. --set n_iterations=3 max_reservoir=60 "
+                   "frame_size=(24,32) (see sklearn_hardness.experiments.get_config)")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    return p
+
+
+def _parse_set(items):
+    import ast
+
+    out = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key:
+            raise SystemExit(f"--set expects KEY=VALUE, got {item!r}")
+        try:
+            out[key] = ast.literal_eval(value)
+        except (ValueError, SyntaxError):
+            out[key] = value  # a plain string
+    return out
+
+
+def _run_reproduce(args):
+    import json
+    import os
+    import time
+
+    from .experiments import comparison_table, format_table, run_active_sampling, save_figures
+
+    config = _parse_set(args.set)
+    if args.dinov2_model:
+        config["dinov2_model"] = args.dinov2_model
+    if args.epochs:
+        config["initial_epochs"], config["epochs_per_query"] = args.epochs
+    os.makedirs(args.out, exist_ok=True)
+    results_path = os.path.join(args.out, "results.jsonl")
+    t0 = time.time()
+    result = run_active_sampling(
+        args.dataset if args.dataset else args.preset,
+        preset=args.preset,
+        model=args.model,
+        strategies=args.strategies,
+        n_runs=args.n_runs,
+        quick=args.quick,
+        n_jobs=args.n_jobs,
+        results_path=results_path,
+        memory=os.path.join(args.out, "cache"),
+        verbose=0 if args.quiet else 1,
+        **config,
+    )
+    cfg = result.config
+    rows = comparison_table(result)
+    n_it = cfg["n_iterations"]
+    table = format_table(rows, mae_unit=cfg.get("hardness_unit"))
+    header = (
+        f"{cfg['preset']}: {cfg['model']}, s0={cfg['n_initial']}, s={cfg['n_per_query']}, N={n_it}, "
+        f"e0={cfg['initial_epochs']}, e={cfg['epochs_per_query']}, M={cfg['max_reservoir']}, "
+        f"dropout={cfg['dropout']}, n_test={cfg['n_test']}, MC passes={cfg['n_mc_samples']}"
+        + (" [quick]" if args.quick else "")
+    )
+    note = (
+        f"Accuracy and MAE after {n_it} iterations (no resampling: after the initial training), mean +- "
+        "std over converged runs; runs = converged/total. Humans: the paper's study (Sec. III-G), "
+        "a constant reference, not measured here."
+    )
+    print(header)
+    print(table)
+    print(note)
+    with open(os.path.join(args.out, "table.txt"), "w") as f:
+        f.write(header + "\n" + table + "\n" + note + "\n")
+    with open(os.path.join(args.out, "config.json"), "w") as f:
+        json.dump({k: v for k, v in cfg.items()}, f, indent=2, default=repr)
+    paths = save_figures(result, args.out)
+    print(f"wrote {results_path}, table.txt, config.json and {len(paths)} figures to {args.out} "
+          f"({time.time() - t0:.0f} s)")
+    return 0
+
+
 _SIM_FORMATS = {"avi": ".avi", "mp4": ".mp4", "png": "", "npy": ".npy"}
 
 
@@ -131,9 +249,45 @@ def _run_simulate(args):
     return 0
 
 
+def _add_benchmark(sub):
+    p = sub.add_parser(
+        "benchmark",
+        help="time one active-sampling run (wall, CPU, peak memory, accuracy)",
+        description="Prepare the frames of all presses of a preset, then run one active-sampling run "
+        "with the preset's hyperparameters and print its wall time, CPU time, peak memory and accuracy "
+        "per iteration. benchmarks/bench_active_sampling.py has more (paired seeds, confidence intervals).",
+    )
+    p.add_argument("--preset", default="silicone5", choices=["silicone5", "shore9"])
+    p.add_argument("--model", default=None, choices=["convlstm", "ofnn", "dinov2nn"])
+    p.add_argument("--strategy", default="variance")
+    p.add_argument("--quick", action="store_true", help="the reproduce --quick settings")
+    p.add_argument("--threads", type=int, default=None, help="torch threads (default: torch's)")
+    p.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="configuration overrides")
+    return p
+
+
+def _run_benchmark(args):
+    from .experiments._benchmark import time_active_sampling_run
+
+    rep = time_active_sampling_run(args.preset, model=args.model, strategy=args.strategy, quick=args.quick,
+                                   n_threads=args.threads, **_parse_set(args.set))
+    cfg, r = rep["config"], rep["record"]
+    print(f"{args.preset}: {cfg['model']}, strategy {args.strategy}, e0={cfg['initial_epochs']} "
+          f"e={cfg['epochs_per_query']} M={cfg['max_reservoir']} N={cfg['n_iterations']} "
+          f"MC={cfg['n_mc_samples']}, torch threads {rep['torch_threads']}" + (" [quick]" if args.quick else ""))
+    print(f"prepare all presses  {rep['prepare_s']:8.1f} s")
+    print(f"one run              {rep['run_wall_s']:8.1f} s wall, {rep['run_cpu_s']:.1f} s CPU; "
+          f"peak RSS {rep['peak_rss_mib']:.0f} MiB")
+    print(f"converged {r['converged']} (initial loss {r['initial_train_loss']:.3f}); accuracy per iteration "
+          f"{[round(a, 2) for a in r['accuracy']]}; queried {r['queried']}")
+    return 0
+
+
 _SUBCOMMANDS = {
     "select": (_add_select, _run_select),
     "simulate": (_add_simulate, _run_simulate),
+    "reproduce": (_add_reproduce, _run_reproduce),
+    "benchmark": (_add_benchmark, _run_benchmark),
 }
 
 

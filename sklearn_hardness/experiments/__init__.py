@@ -1,1 +1,50 @@
-"""sklearn_hardness.experiments (work in progress)."""
+"""The paper's experiments as functions, with tables and figures.
+
+- :func:`run_active_sampling`: strategies compared over (test object, seed)
+  runs (Sec. III-F, Algorithm 1), resumable from a JSON Lines results file.
+- :func:`run_model_baselines`: the three classifiers on ``s0`` presses per
+  object (Sec. III-D).
+- :func:`run_dropout_sweep`: accuracy and MAE against the dropout rate
+  (Sec. III-E).
+- :func:`comparison_table`, :func:`format_table`: the paper's Table I.
+- :func:`plot_active_sampling`, :func:`plot_uncertainty`,
+  :func:`plot_dropout_sweep`, :func:`plot_model_baselines`,
+  :func:`save_figures`: the paper's figures (matplotlib, PNG).
+- :func:`get_config`: the paper's hyperparameters per preset.
+"""
+
+from ._active import STRATEGIES, run_active_sampling
+from ._baselines import run_dropout_sweep, run_model_baselines
+from ._plotting import (
+    plot_active_sampling,
+    plot_dropout_sweep,
+    plot_model_baselines,
+    plot_uncertainty,
+    save_figures,
+)
+from ._tables import HUMAN_ACCURACY, baseline_table, comparison_table, format_table
+from ._config import MODEL_NAMES, PRESET_CONFIGS, QUICK_OVERRIDES, config_hash, get_config
+from ._results import ExperimentResult, ResultsStore
+
+__all__ = [
+    "run_active_sampling",
+    "run_model_baselines",
+    "run_dropout_sweep",
+    "comparison_table",
+    "baseline_table",
+    "format_table",
+    "HUMAN_ACCURACY",
+    "plot_active_sampling",
+    "plot_uncertainty",
+    "plot_dropout_sweep",
+    "plot_model_baselines",
+    "save_figures",
+    "STRATEGIES",
+    "get_config",
+    "config_hash",
+    "PRESET_CONFIGS",
+    "QUICK_OVERRIDES",
+    "MODEL_NAMES",
+    "ExperimentResult",
+    "ResultsStore",
+]

@@ -1,0 +1,145 @@
+"""Benchmark of the active-sampling experiment: time, memory and accuracy side by side.
+
+One run (default)
+    One ConvLSTM active-sampling run with the paper's robot-data
+    hyperparameters on the simulated ``silicone5`` set (s0 = s = 5, N = 5,
+    e0 = 100, e = 50, M = 40, dropout 0.2, 50 MC passes, 18x24 grey frames):
+    wall time, CPU time and peak memory of the run, after the frames of all
+    455 presses are prepared (timed separately)::
+
+        python benchmarks/bench_active_sampling.py
+
+Paired seeds
+    Variance, entropy, BALD and random on the same (test object, seed) pairs
+    (same test presses, initial presses, initial weights): final accuracy with
+    95% t-intervals and the paired differences to random::
+
+        python benchmarks/bench_active_sampling.py --paired-seeds 30 --model convlstm --quick --n-jobs 2
+        python benchmarks/bench_active_sampling.py --paired-seeds 30 --model ofnn --n-jobs 2
+
+    Pairs cycle through the test objects (30 pairs = 5 objects x 6 seeds).
+    Results go to a resumable JSON Lines file (``--results``).
+"""
+
+import argparse
+import math
+import os
+import resource
+import sys
+import time
+
+import numpy as np
+
+
+def _peak_rss_mib():
+    r = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return r / 1024 if sys.platform != "darwin" else r / 2**20
+
+
+def one_run(args):
+    import torch
+
+    from sklearn_hardness.experiments import get_config, run_active_sampling
+    from sklearn_hardness.experiments._data import prepare_inputs
+
+    torch.set_num_threads(args.threads)
+    overrides = {} if args.frame_size is None else {"frame_size": tuple(args.frame_size)}
+    cfg = get_config("silicone5", quick=args.quick, model=args.model, **overrides)
+    t = time.perf_counter()
+    prepare_inputs("silicone5", dict(cfg, convergence_threshold=None), args.model, verbose=0)
+    prep = time.perf_counter() - t
+    rss_prep = _peak_rss_mib()
+    t, c = time.perf_counter(), time.process_time()
+    res = run_active_sampling("silicone5", model=args.model, strategies=(args.strategy,), test_classes=[0],
+                              seeds=[args.seed], quick=args.quick, n_jobs=1, verbose=0, **overrides)
+    wall, cpu = time.perf_counter() - t, time.process_time() - c
+    r = res.records[0]
+    cfg = res.config
+    print(f"one {args.model} active-sampling run, silicone5, strategy={args.strategy}, test object 0, "
+          f"seed {args.seed}, torch threads={args.threads}")
+    print(f"  e0={cfg['initial_epochs']} e={cfg['epochs_per_query']} M={cfg['max_reservoir']} "
+          f"s0=s={cfg['n_initial']} N={cfg['n_iterations']} MC={cfg['n_mc_samples']} "
+          f"frames={cfg['frame_size'] or 'model default'} lr={cfg['lr']}")
+    print(f"{'stage':<28}{'wall s':>9}{'cpu s':>9}{'peak RSS MiB':>14}  result")
+    print(f"{'prepare 455 presses':<28}{prep:>9.1f}{'':>9}{rss_prep:>14.0f}")
+    print(f"{'active-sampling run':<28}{wall:>9.1f}{cpu:>9.1f}{_peak_rss_mib():>14.0f}  "
+          f"converged={r['converged']} (loss {r['initial_train_loss']:.3f}), accuracy per iteration "
+          f"{[round(a, 2) for a in r['accuracy']]}, queried {r['queried']}")
+
+
+def paired(args):
+    from scipy import stats
+
+    from sklearn_hardness.experiments import run_active_sampling
+
+    strategies = ("variance", "entropy", "bald", "random")
+    n_seeds = math.ceil(args.paired_seeds / 5)
+    overrides = {} if args.frame_size is None else {"frame_size": tuple(args.frame_size)}
+    t = time.perf_counter()
+    res = run_active_sampling("silicone5", model=args.model, strategies=strategies, seeds=range(n_seeds),
+                              quick=args.quick, n_jobs=args.n_jobs, results_path=args.results,
+                              memory=args.cache, verbose=1, **overrides)
+    wall = time.perf_counter() - t
+    # pairs (test object, seed), first args.paired_seeds of them in seed-major order
+    pairs = sorted({(r["key"]["seed"], r["key"]["test_class"]) for r in res.records})[: args.paired_seeds]
+    final = {s: {} for s in strategies}
+    first = {}
+    for r in res.records:
+        p = (r["key"]["seed"], r["key"]["test_class"])
+        if p in pairs and r["converged"]:
+            final[r["key"]["strategy"]][p] = r["accuracy"][-1]
+            first[p] = r["accuracy"][0]
+    common = sorted(set.intersection(*(set(v) for v in final.values())))
+    cfg = res.config
+    print(f"\nsilicone5, {cfg['model']}, {len(pairs)} paired (test object, seed) runs, "
+          f"{len(common)} converged in all strategies; e0={cfg['initial_epochs']} e={cfg['epochs_per_query']} "
+          f"M={cfg['max_reservoir']} frames={cfg['frame_size'] or 'default'} lr={cfg['lr']} "
+          f"MC={cfg['n_mc_samples']}{' [quick]' if args.quick else ''}; wall {wall:.0f} s, "
+          f"peak RSS {_peak_rss_mib():.0f} MiB (parent)")
+
+    def ci(v):
+        v = np.asarray(v, float)
+        m = v.mean()
+        if len(v) < 2 or v.std() == 0:
+            return m, m, m
+        lo, hi = stats.t.interval(0.95, len(v) - 1, loc=m, scale=stats.sem(v))
+        return m, lo, hi
+
+    print(f"{'':<16}{'final accuracy':>16}{'95% CI':>20}{'diff vs random':>16}{'95% CI':>20}{'p (paired t)':>14}")
+    base = [first[p] for p in common]
+    m, lo, hi = ci(base)
+    print(f"{'no resampling':<16}{100 * m:>15.1f}%{f'[{100 * lo:.1f}, {100 * hi:.1f}]':>20}")
+    rnd = np.array([final["random"][p] for p in common])
+    for s in strategies:
+        v = np.array([final[s][p] for p in common])
+        m, lo, hi = ci(v)
+        line = f"{s:<16}{100 * m:>15.1f}%{f'[{100 * lo:.1f}, {100 * hi:.1f}]':>20}"
+        if s != "random":
+            d = v - rnd
+            dm, dlo, dhi = ci(d)
+            p = stats.ttest_rel(v, rnd).pvalue if np.any(d != 0) else 1.0
+            line += f"{100 * dm:>+15.1f}%{f'[{100 * dlo:+.1f}, {100 * dhi:+.1f}]':>20}{p:>14.3f}"
+        print(line)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--model", default="convlstm", choices=["convlstm", "ofnn"])
+    ap.add_argument("--quick", action="store_true", help="the reproduce --quick settings")
+    ap.add_argument("--frame-size", type=int, nargs=2, default=None)
+    ap.add_argument("--strategy", default="variance")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--threads", type=int, default=2, help="torch threads of the single run")
+    ap.add_argument("--paired-seeds", type=int, default=0, help="number of paired (test object, seed) runs")
+    ap.add_argument("--n-jobs", type=int, default=2)
+    ap.add_argument("--results", default="bench_active_sampling.jsonl")
+    ap.add_argument("--cache", default=os.path.join(".cache", "bench_active_sampling"))
+    args = ap.parse_args()
+    if args.paired_seeds:
+        paired(args)
+    else:
+        one_run(args)
+
+
+if __name__ == "__main__":
+    main()

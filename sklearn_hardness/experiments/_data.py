@@ -1,0 +1,273 @@
+"""Inputs of the experiments: the deterministic transforms, computed once per dataset.
+
+Contact-frame selection and the frozen feature extractors (optical flow,
+DINOv2) do not change between runs, strategies or seeds, so every experiment
+computes them once for all presses of a dataset; each run then only indexes
+into the arrays. With ``memory`` (a folder or :class:`joblib.Memory`) they are
+also cached on disk between calls and processes (keyed by the dataset's
+description and the transform parameters).
+"""
+
+from __future__ import annotations
+
+import os
+
+import joblib
+import numpy as np
+from sklearn.base import BaseEstimator, clone
+from sklearn.utils import Bunch
+
+from ._config import MODEL_INPUTS, MODEL_NAMES
+
+__all__ = ["load_dataset", "prepare_inputs", "make_estimator"]
+
+_SIM_PRESETS = ("silicone5", "shore9")
+_MEMO = {}  # in-process cache of prepared inputs (a few small arrays)
+_MEMO_MAX = 4
+
+
+def _dataset_spec(dataset, cfg):
+    """A hashable description of the dataset (None if it cannot be described)."""
+    if isinstance(dataset, str) and dataset in _SIM_PRESETS:
+        return ("make_presses", dataset, tuple(cfg["image_size"]), int(cfg["data_seed"]))
+    if isinstance(dataset, (str, os.PathLike)):
+        path = os.path.abspath(os.fspath(dataset))
+        if not os.path.isfile(path):
+            raise ValueError(
+                f"dataset {os.fspath(dataset)!r} is neither a simulator preset "
+                f"({', '.join(_SIM_PRESETS)}) nor an existing manifest CSV file."
+            )
+        st = os.stat(path)
+        return ("manifest", path, st.st_mtime_ns, st.st_size)
+    return None
+
+
+def load_dataset(dataset, cfg):
+    """The dataset as a Bunch (``videos``, ``target``, ``hardness``, ...).
+
+    ``dataset`` is a simulator preset name (``"silicone5"``, ``"shore9"``,
+    simulated with ``cfg["image_size"]`` and ``cfg["data_seed"]``), the path
+    of a manifest CSV (:func:`~sklearn_hardness.datasets.load_press_videos`)
+    or a Bunch with at least ``videos`` and ``target``.
+    """
+    spec = _dataset_spec(dataset, cfg)
+    if spec is not None and spec[0] == "make_presses":
+        from ..datasets import make_presses
+
+        return make_presses(spec[1], image_size=spec[2], random_state=spec[3])
+    if spec is not None:
+        from ..datasets import load_press_videos
+
+        return load_press_videos(spec[1])
+    if not (hasattr(dataset, "videos") or hasattr(dataset, "get")) :
+        raise TypeError(
+            "dataset must be a preset name ('silicone5', 'shore9'), a manifest CSV path or a "
+            f"Bunch with 'videos' and 'target', got {type(dataset).__name__}."
+        )
+    for field in ("videos", "target"):
+        if field not in dataset:
+            raise ValueError(f"the dataset Bunch has no {field!r} field.")
+    return dataset
+
+
+def _frame_params(cfg, model):
+    name = model if isinstance(model, str) else "convlstm"
+    size = cfg["frame_size"] or MODEL_INPUTS[name]["frame_size"]
+    color = cfg["color"] or MODEL_INPUTS[name]["color"]
+    return {"n_between": int(cfg["n_between"]), "output_size": tuple(int(s) for s in size), "color": color}
+
+
+def _feature_params(cfg, model):
+    if model == "ofnn":
+        return {"kind": "optical_flow", "n_features": 500}
+    if model == "dinov2nn":
+        return {"kind": "dinov2", "model": cfg["dinov2_model"]}
+    return None
+
+
+def _select_frames(videos, frame_params, verbose):
+    from tqdm.auto import tqdm
+
+    from ..preprocessing import ContactFrameSelector
+
+    selector = ContactFrameSelector(on_no_contact="fallback", **frame_params)
+    n = len(videos)
+    if n == 0:
+        raise ValueError("the dataset has no videos.")
+    chunk = 32
+    out = []
+    import warnings
+
+    with warnings.catch_warnings():
+        # no-contact fallbacks are reported once, below, not per chunk
+        warnings.filterwarnings("ignore", message=".*contact.*")
+        selector.fit(videos[np.arange(min(n, 1))] if hasattr(videos, "shape") else videos[:1])
+        n_fallback = 0
+        with tqdm(total=n, desc="contact frames", unit="video", disable=True if not verbose else None) as bar:
+            for start in range(0, n, chunk):
+                idx = np.arange(start, min(n, start + chunk))
+                part = videos[idx] if hasattr(videos, "shape") else [videos[i] for i in idx]
+                sel = selector.select(part)
+                n_fallback += int(np.sum(~np.asarray(sel.contact_found)))
+                out.append(selector.transform(part))
+                bar.update(len(idx))
+    if n_fallback:
+        warnings.warn(
+            f"{n_fallback} of {n} videos never reached contact; their frames were chosen by "
+            "ContactFrameSelector's fallback rule.",
+            UserWarning,
+            stacklevel=3,
+        )
+    return np.concatenate(out, axis=0)
+
+
+def _features(frames, feature_params):
+    if feature_params is None:
+        return frames
+    if feature_params["kind"] == "optical_flow":
+        from ..features import OpticalFlowFeatures
+
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message=".*padded.*")
+            return OpticalFlowFeatures(n_features=feature_params["n_features"]).fit_transform(frames)
+    from ..features import DINOv2Features
+
+    return DINOv2Features(model=feature_params["model"]).fit_transform(frames)
+
+
+def _compute(spec, dataset, cfg, frame_params, feature_params, verbose):
+    data = load_dataset(dataset, cfg)
+    frames = _select_frames(data["videos"], frame_params, verbose)
+    X = _features(frames, feature_params)
+    y = np.asarray(data["target"])
+    return X, y
+
+
+def _meta(data_or_none, dataset, cfg, y):
+    data = data_or_none
+    n_classes = int(y.max()) + 1 if y.size else 0
+    names = data.get("target_names") if data is not None else None
+    hardness = data.get("hardness") if data is not None else None
+    unit = data.get("hardness_unit") if data is not None else None
+    if names is None:
+        names = np.array([str(i) for i in range(n_classes)])
+    if hardness is not None:
+        hardness = np.asarray(hardness, dtype=float)
+        if hardness.size == 0 or not np.all(np.isfinite(hardness)):
+            hardness = None
+    return np.asarray(names), hardness, unit
+
+
+def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1):
+    """Selected frames (ConvLSTM, custom estimators) or frozen features for all presses.
+
+    Parameters
+    ----------
+    dataset : str, path-like or Bunch
+        See :func:`load_dataset`.
+    cfg : dict
+        The experiment configuration (:func:`get_config`).
+    model : str or estimator
+        A name in :data:`MODEL_NAMES` or an estimator (it gets the selected frames).
+    memory : None, str or joblib.Memory, default=None
+        Disk cache of the transforms (only for presets and manifests).
+    verbose : int, default=1
+
+    Returns
+    -------
+    inputs : Bunch
+        ``X`` (one row per press), ``y`` (class index), ``target_names``,
+        ``hardness`` (per class, or None), ``hardness_unit``, ``n_classes``.
+    """
+    if isinstance(model, str) and model not in MODEL_NAMES:
+        raise ValueError(f"unknown model {model!r}; choose one of {list(MODEL_NAMES)} or pass an estimator.")
+    spec = _dataset_spec(dataset, cfg)
+    frame_params = _frame_params(cfg, model)
+    feature_params = _feature_params(cfg, model) if isinstance(model, str) else None
+    data = None
+    if spec is None:
+        data = load_dataset(dataset, cfg)
+        X, y = _compute(None, data, cfg, frame_params, feature_params, verbose)
+    else:
+        memo_key = joblib.hash((spec, frame_params, feature_params))
+        if memo_key in _MEMO:
+            X, y, data = _MEMO[memo_key]
+        else:
+            if memory is not None:
+                mem = memory if isinstance(memory, joblib.Memory) else joblib.Memory(memory, verbose=0)
+                X, y = mem.cache(_compute, ignore=["dataset", "cfg", "verbose"])(
+                    spec, dataset, cfg, frame_params, feature_params, verbose
+                )
+            else:
+                X, y = _compute(spec, dataset, cfg, frame_params, feature_params, verbose)
+            data = load_dataset(dataset, cfg)  # lazy videos: metadata only
+            data = {k: data.get(k) for k in ("target_names", "hardness", "hardness_unit")}
+            _MEMO[memo_key] = (X, y, data)
+            while len(_MEMO) > _MEMO_MAX:
+                _MEMO.pop(next(iter(_MEMO)))
+    if model == "convlstm" and cfg.get("input_scale") == "std":
+        std = float(np.std(X))
+        if std > 0:
+            X = X / np.float32(std)
+    elif cfg.get("input_scale") not in (None, "std"):
+        raise ValueError(f"input_scale must be 'std' or None, got {cfg.get('input_scale')!r}.")
+    y = np.asarray(y)
+    if y.ndim != 1 or y.size == 0 or not np.issubdtype(y.dtype, np.integer) or y.min() < 0:
+        raise ValueError("the dataset's target must be a non-empty 1-D array of class indices 0 .. n_classes - 1.")
+    names, hardness, unit = _meta(data, dataset, cfg, y)
+    n_classes = max(len(names), int(y.max()) + 1)
+    counts = np.bincount(y, minlength=n_classes)
+    if np.any(counts == 0):
+        missing = np.flatnonzero(counts == 0).tolist()
+        raise ValueError(
+            f"classes {missing} have no presses in the dataset; every reference object needs "
+            "presses for the initial training set."
+        )
+    if hardness is not None and hardness.shape[0] != n_classes:
+        raise ValueError(f"the dataset gives {hardness.shape[0]} hardness values for {n_classes} classes.")
+    data_id = list(spec) if spec is not None else joblib.hash((X, y))
+    return Bunch(X=X, y=y, target_names=names, hardness=hardness, hardness_unit=unit,
+                 n_classes=n_classes, model=model if isinstance(model, str) else "custom",
+                 data_id=data_id)
+
+
+def _set_random_states(est, seed):
+    params = est.get_params(deep=True)
+    to_set = {k: seed for k in params if k == "random_state" or k.endswith("__random_state")}
+    if to_set:
+        est.set_params(**to_set)
+    return est
+
+
+def make_estimator(model, cfg, seed, n_classes, dropout=None):
+    """A fresh classifier for one run: a named model built from ``cfg``, or a seeded clone."""
+    dropout = cfg["dropout"] if dropout is None else dropout
+    if isinstance(model, str):
+        from ..models import ConvLSTMClassifier, DINOv2NNClassifier, OFNNClassifier
+
+        cls = {"convlstm": ConvLSTMClassifier, "ofnn": OFNNClassifier, "dinov2nn": DINOv2NNClassifier}[model]
+        kwargs = dict(dropout=float(dropout), lr=cfg["lr"], random_state=int(seed),
+                      classes=np.arange(n_classes), max_epochs=int(cfg["initial_epochs"]))
+        if cfg["batch_size"] is not None:
+            kwargs["batch_size"] = int(cfg["batch_size"])
+        return cls(**kwargs)
+    if not isinstance(model, BaseEstimator):
+        raise TypeError(
+            f"model must be one of {list(MODEL_NAMES)} or a scikit-learn estimator, got {type(model).__name__}."
+        )
+    est = _set_random_states(clone(model), int(seed))
+    if dropout is not None and cfg.get("_override_dropout"):
+        keys = [k for k in est.get_params(deep=True) if k == "dropout" or k.endswith("__dropout")]
+        if keys:
+            est.set_params(**{k: float(dropout) for k in keys})
+    return est
+
+
+def describe_model(model):
+    """A stable text description of a model for the config hash."""
+    if isinstance(model, str):
+        return model
+    params = model.get_params(deep=False)
+    return f"{type(model).__module__}.{type(model).__qualname__}({sorted((k, repr(v)) for k, v in params.items())})"

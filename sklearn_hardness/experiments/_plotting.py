@@ -1,0 +1,180 @@
+"""Figures like the paper's (matplotlib), from experiment results."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+__all__ = [
+    "plot_active_sampling",
+    "plot_uncertainty",
+    "plot_dropout_sweep",
+    "plot_model_baselines",
+    "save_figures",
+]
+
+_LABELS = {"accuracy": "accuracy", "mae": "hardness MAE", "entropy": "mean entropy",
+           "variance": "mean variance", "bald": "mean BALD"}
+
+
+def _axes(ax):
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(4.5, 3.4), layout="constrained")
+    return ax
+
+
+def plot_active_sampling(result, metric="accuracy", ax=None, band="std"):
+    """Mean of a per-iteration metric per strategy, with a +-1 std band (Figs. 5, 7).
+
+    Parameters
+    ----------
+    result : ExperimentResult
+        From :func:`run_active_sampling` (converged runs are used).
+    metric : {"accuracy", "mae", "entropy", "variance", "bald"}, default="accuracy"
+    ax : matplotlib Axes or None
+    band : {"std", "sem", None}, default="std"
+        Shaded band: standard deviation over runs (as the paper), standard
+        error of the mean, or none.
+
+    Returns
+    -------
+    ax : matplotlib Axes
+    """
+    if metric not in _LABELS:
+        raise ValueError(f"metric must be one of {list(_LABELS)}, got {metric!r}.")
+    if band not in ("std", "sem", None):
+        raise ValueError(f"band must be 'std', 'sem' or None, got {band!r}.")
+    ax = _axes(ax)
+    for strategy in result.groups("strategy"):
+        curves = result.curves(metric, strategy=strategy)
+        if curves.size == 0:
+            continue
+        scale = 100.0 if metric == "accuracy" else 1.0
+        mean = np.nanmean(curves, axis=0) * scale
+        it = np.arange(mean.size)
+        (line,) = ax.plot(it, mean, marker="o", ms=3, label=f"{strategy} (n={len(curves)})")
+        if band is not None and len(curves) > 1:
+            spread = np.nanstd(curves, axis=0) * scale
+            if band == "sem":
+                spread = spread / np.sqrt(len(curves))
+            lo, hi = mean - spread, mean + spread
+            if metric == "accuracy":  # a band past 0% or 100% means nothing
+                lo, hi = np.clip(lo, 0, 100), np.clip(hi, 0, 100)
+            ax.fill_between(it, lo, hi, color=line.get_color(), alpha=0.15)
+    ax.set_xlabel("active sampling iteration")
+    if not ax.get_lines():
+        ax.text(0.5, 0.5, "no converged runs", ha="center", va="center", transform=ax.transAxes)
+    unit = (result.config or {}).get("hardness_unit") if metric == "mae" else None
+    ax.set_ylabel(_LABELS[metric] + (" (%)" if metric == "accuracy" else f" ({unit})" if unit else ""))
+    if ax.get_lines():
+        ax.legend(fontsize="small")
+    ax.grid(alpha=0.3)
+    return ax
+
+
+def plot_uncertainty(result, kind="entropy", ax=None):
+    """Mean per-class entropy or variance on the test presses per iteration (Figs. 6, 8)."""
+    return plot_active_sampling(result, metric=kind, ax=ax, band="std")
+
+
+def _smooth(y, window):
+    from scipy.signal import savgol_filter
+
+    n = len(y)
+    w = min(window, n if n % 2 else n - 1)
+    if w < 3:
+        return y
+    return savgol_filter(y, w, polyorder=min(2, w - 1))
+
+
+def plot_dropout_sweep(result, metric="accuracy", ax=None, smooth=5):
+    """Mean and std of a metric against the dropout rate, Savitzky-Golay smoothed (Fig. 4).
+
+    Parameters
+    ----------
+    result : ExperimentResult
+        From :func:`run_dropout_sweep`.
+    metric : {"accuracy", "mae"}, default="accuracy"
+    ax : matplotlib Axes or None
+    smooth : int or None, default=5
+        Window of :func:`scipy.signal.savgol_filter` (order 2) for the curves;
+        the raw means are drawn as dots. None: no smoothing.
+    """
+    if metric not in ("accuracy", "mae"):
+        raise ValueError(f"metric must be 'accuracy' or 'mae', got {metric!r}.")
+    ax = _axes(ax)
+    rates = sorted({r["key"]["dropout"] for r in result.records})
+    scale = 100.0 if metric == "accuracy" else 1.0
+    vals = [[r[metric] for r in result.records if r["key"]["dropout"] == d and r[metric] is not None]
+            for d in rates]
+    mean = np.array([np.mean(v) if v else np.nan for v in vals]) * scale
+    std = np.array([np.std(v) if v else np.nan for v in vals]) * scale
+    x = np.asarray(rates)
+    m_s = _smooth(mean, smooth) if smooth else mean
+    s_s = _smooth(std, smooth) if smooth else std
+    (line,) = ax.plot(x, m_s, label="mean" + (" (Savitzky-Golay)" if smooth else ""))
+    ax.plot(x, mean, "o", ms=3, color=line.get_color())
+    ax.fill_between(x, m_s - s_s, m_s + s_s, color=line.get_color(), alpha=0.15, label="std")
+    ax.set_xlabel("dropout rate")
+    ax.set_ylabel(_LABELS[metric] + (" (%)" if metric == "accuracy" else ""))
+    ax.legend(fontsize="small")
+    ax.grid(alpha=0.3)
+    return ax
+
+
+def plot_model_baselines(result, ax=None):
+    """Bar chart of train and test accuracy per model with std error bars (Fig. 3)."""
+    from ._tables import baseline_table
+
+    ax = _axes(ax)
+    rows = baseline_table(result)
+    x = np.arange(len(rows))
+    w = 0.38
+    ax.bar(x - w / 2, [100 * r["train_accuracy_mean"] for r in rows], w,
+           yerr=[100 * r["train_accuracy_std"] for r in rows], capsize=3, label="train")
+    ax.bar(x + w / 2, [100 * r["accuracy_mean"] for r in rows], w,
+           yerr=[100 * r["accuracy_std"] for r in rows], capsize=3, label="validation")
+    ax.set_xticks(x, [r["name"] for r in rows])
+    ax.set_ylabel("accuracy (%)")
+    ax.set_ylim(0, 105)
+    ax.legend(fontsize="small")
+    ax.grid(alpha=0.3, axis="y")
+    return ax
+
+
+def save_figures(result, out_dir, prefix=""):
+    """Write the figures of a result as PNG files; return their paths.
+
+    Active sampling: ``accuracy.png``, ``mae.png``, ``entropy.png``,
+    ``variance.png``; baselines: ``baselines.png``; dropout sweep:
+    ``dropout_accuracy.png``, ``dropout_mae.png``.
+    """
+    from matplotlib.figure import Figure  # no pyplot: works without a display
+
+    os.makedirs(out_dir, exist_ok=True)
+    experiments = {r["key"].get("experiment") for r in result.records}
+    paths = []
+
+    def save(fn, name, **kw):
+        fig = Figure(figsize=(4.5, 3.4), layout="constrained")
+        fn(result, ax=fig.add_subplot(), **kw)
+        path = os.path.join(out_dir, prefix + name)
+        fig.savefig(path, dpi=120)
+        paths.append(path)
+
+    if "active_sampling" in experiments:
+        for metric in ("accuracy", "mae"):
+            if metric == "mae" and all(v is None for r in result.records for v in r["mae"]):
+                continue
+            save(plot_active_sampling, f"{metric}.png", metric=metric)
+        for kind in ("entropy", "variance"):
+            save(plot_uncertainty, f"{kind}.png", kind=kind)
+    if "model_baselines" in experiments:
+        save(plot_model_baselines, "baselines.png")
+    if "dropout_sweep" in experiments:
+        for metric in ("accuracy", "mae"):
+            save(plot_dropout_sweep, f"dropout_{metric}.png", metric=metric)
+    return paths
