@@ -137,7 +137,9 @@ def plot_model_baselines(result, ax=None):
            yerr=[100 * r["train_accuracy_std"] for r in rows], capsize=3, label="train")
     ax.bar(x + w / 2, [100 * r["accuracy_mean"] for r in rows], w,
            yerr=[100 * r["accuracy_std"] for r in rows], capsize=3, label="validation")
-    ax.set_xticks(x, [r["name"] for r in rows])
+    import textwrap
+
+    ax.set_xticks(x, [textwrap.fill(str(r["name"]), 14) for r in rows], fontsize="small")
     ax.set_ylabel("accuracy (%)")
     ax.set_ylim(0, 105)
     ax.legend(fontsize="small")
