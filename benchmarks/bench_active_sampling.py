@@ -19,6 +19,24 @@ Paired seeds
 
     Pairs cycle through the test objects (30 pairs = 5 objects x 6 seeds).
     Results go to a resumable JSON Lines file (``--results``).
+
+Measured (shared 2-core VM, load 5-8, so wall times are inflated; CPU times are the guide)
+    One ConvLSTM run, paper settings, 1 torch thread: 71 s CPU (159 s wall
+    under load), peak RSS 564 MiB; preparing the 455 presses: 140 s wall
+    (once; cached on disk with ``memory=``). Converged (loss 0.98).
+
+    30 pairs, ConvLSTM with the ``--quick`` settings (a full-setting ConvLSTM
+    at 120 runs x 71 s CPU did not fit): 22/30 converged (73%; paper 81%).
+    Final accuracy [95% CI]: no resampling 56.4% [40.3, 72.5], variance 63.6%
+    [46.0, 81.3], entropy 79.1% [67.3, 90.9], BALD 60.9% [44.4, 77.4], random
+    62.7% [44.7, 80.7]; paired differences to random: entropy +16.4%
+    [+0.7, +32.0] (p = 0.04), variance +0.9% [-17.1, +19.0], BALD -1.8%
+    [-17.0, +13.4].
+
+    30 pairs, OFNN (paper settings): it does not learn from 5 presses per
+    object on the simulator (no resampling 14.0%, random 22.7%, variance
+    20.7%, entropy 19.3%, BALD 16.7%; no strategy differs from random), as
+    in the paper, where OFNN is the weakest model (27%).
 """
 
 import argparse

@@ -51,12 +51,12 @@ result = run_active_sampling(
     n_runs=1,
     n_iterations=2,
     n_per_query=5,
-    initial_epochs=30,
-    epochs_per_query=10,
+    initial_epochs=20,
+    epochs_per_query=5,
     lr=3e-3,
     n_mc_samples=10,
     frame_size=(9, 12),
-    # With 30 epochs most runs end above the paper's convergence threshold
+    # With 20 epochs most runs end above the paper's convergence threshold
     # (training loss 1): keep them all here instead of skipping them.
     convergence_threshold=None,
     n_jobs=2,

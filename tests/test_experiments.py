@@ -271,3 +271,30 @@ def test_experiment_result_helpers():
     full = res.curves("accuracy", converged_only=False, strategy="a")
     assert full.shape == (2, 2) and np.isnan(full[1, 1])
     assert res.to_frame().shape[0] == 3
+
+
+def test_custom_estimator_and_dinov2nn_preset():
+    from sklearn.pipeline import Pipeline
+
+    from sklearn_hardness.features import OpticalFlowFeatures
+    from sklearn_hardness.models import OFNNClassifier
+
+    data = tiny_presses()
+    pipe = Pipeline([("of", OpticalFlowFeatures(n_features=20)), ("clf", OFNNClassifier(random_state=123))])
+    res = run_active_sampling(data, model=pipe, strategies=("entropy",), test_classes=[2], n_runs=1,
+                              verbose=0, **TINY)
+    assert res.config["model"].startswith("sklearn.pipeline.Pipeline(")
+    assert len(res.records[0]["accuracy"]) == TINY["n_iterations"] + 1
+    with pytest.raises(TypeError, match="estimator"):
+        run_active_sampling(data, model=object(), verbose=0, **TINY)
+
+    transformers = pytest.importorskip("transformers")
+    cfg = transformers.Dinov2Config(hidden_size=16, num_hidden_layers=1, num_attention_heads=2,
+                                    intermediate_size=32, image_size=28, patch_size=14)
+    backbone = transformers.Dinov2Model(cfg).eval()
+    # shore9 hyperparameters (one frame between, DINOv2NN), scaled down, on the tiny set
+    res = run_active_sampling(data, preset="shore9", strategies=("variance",), test_classes=[0], n_runs=1,
+                              verbose=0, dinov2_model=backbone, **TINY)
+    assert res.config["model"] == "dinov2nn" and res.config["n_between"] == 1
+    assert res.config["convergence_threshold"] is None
+    assert all(np.isfinite(res.records[0]["variance"]))

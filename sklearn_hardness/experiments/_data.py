@@ -269,5 +269,9 @@ def describe_model(model):
     """A stable text description of a model for the config hash."""
     if isinstance(model, str):
         return model
+    if not isinstance(model, BaseEstimator):
+        raise TypeError(
+            f"model must be one of {list(MODEL_NAMES)} or a scikit-learn estimator, got {type(model).__name__}."
+        )
     params = model.get_params(deep=False)
     return f"{type(model).__module__}.{type(model).__qualname__}({sorted((k, repr(v)) for k, v in params.items())})"
