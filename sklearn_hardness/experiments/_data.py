@@ -74,7 +74,12 @@ def _frame_params(cfg, model):
     name = model if isinstance(model, str) else "convlstm"
     size = cfg["frame_size"] or MODEL_INPUTS[name]["frame_size"]
     color = cfg["color"] or MODEL_INPUTS[name]["color"]
-    return {"n_between": int(cfg["n_between"]), "output_size": tuple(int(s) for s in size), "color": color}
+    return {
+        "n_between": int(cfg["n_between"]),
+        "output_size": tuple(int(s) for s in size),
+        "color": color,
+        "subtract_first": MODEL_INPUTS[name]["subtract_first"],
+    }
 
 
 def _feature_params(cfg, model):

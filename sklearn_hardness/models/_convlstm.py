@@ -198,6 +198,23 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         above 1 after initial training not converged
         (:func:`sklearn_hardness.models.is_converged`).
 
+    Notes
+    -----
+    Scale the input. Differences to the first frame (what
+    :class:`~sklearn_hardness.preprocessing.ContactFrameSelector` returns by
+    default) have a standard deviation of a few hundredths; on them the net
+    barely leaves the uniform prediction (on simulated ``silicone5`` with 5
+    presses per object and 100 epochs the training loss stayed at ln 5).
+    Put :class:`FrameScaler` before it, as :func:`make_convlstm_pipeline`
+    does.
+
+    Input size trades accuracy against time: on simulated ``silicone5`` (5
+    training presses per object, 86 test presses per object, 100 epochs, 10
+    seeds; ``benchmarks/bench_model_baselines.py``) 18x24 grey frames gave
+    55.1% +- 4.7% test accuracy in 166 s for all seeds and 36x48 gave
+    44.8% +- 2.7% in 491 s. With 25 training presses the larger input only
+    adds parameters' worth of overfitting, so the pipelines default to 18x24.
+
     Examples
     --------
     >>> import numpy as np

@@ -42,10 +42,12 @@ class FrameScaler(TransformerMixin, BaseEstimator):
         return check_frames_array(X) / np.float32(self.scale_)
 
 
-def _selector(n_between, frame_size, color):
+def _selector(n_between, frame_size, color, subtract_first=True):
     from ..preprocessing import ContactFrameSelector
 
-    return ContactFrameSelector(n_between=n_between, output_size=frame_size, color=color)
+    return ContactFrameSelector(
+        n_between=n_between, output_size=frame_size, color=color, subtract_first=subtract_first
+    )
 
 
 def make_convlstm_pipeline(*, n_between=2, frame_size=(18, 24), color="gray", **classifier_params):
@@ -80,7 +82,8 @@ def make_ofnn_pipeline(*, n_between=2, frame_size=(120, 160), n_features=500, **
     from ..features import OpticalFlowFeatures
     from ._mlp import OFNNClassifier
 
-    return Pipeline([("frames", _selector(n_between, frame_size, "gray")),
+    # raw frames, not differences: optical flow tracks the gel's markers
+    return Pipeline([("frames", _selector(n_between, frame_size, "gray", subtract_first=False)),
                      ("features", OpticalFlowFeatures(n_features=n_features)),
                      ("clf", OFNNClassifier(**classifier_params))])
 
