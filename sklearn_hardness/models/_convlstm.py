@@ -212,8 +212,8 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
     training presses per object, 86 test presses per object, 100 epochs, 10
     seeds; ``benchmarks/bench_model_baselines.py``) 18x24 grey frames gave
     55.1% +- 4.7% test accuracy in 166 s for all seeds and 36x48 gave
-    44.8% +- 2.7% in 491 s. With 25 training presses the larger input only
-    adds parameters' worth of overfitting, so the pipelines default to 18x24.
+    44.8% +- 2.7% in 491 s: larger frames cost time and did not help with 25
+    training presses, so the pipelines default to 18x24.
 
     Examples
     --------
