@@ -13,13 +13,14 @@ from ._convergence import check_convergence, is_converged
 from ._convlstm import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
 from ._mc_dropout import MCDropout, MCDropoutClassifierBase
 from ._mlp import DINOv2NNClassifier, MLPHead, OFNNClassifier
-from ._pipelines import FrameScaler, make_convlstm_pipeline, make_dinov2nn_pipeline, make_ofnn_pipeline
+from ._pipelines import FrameScaler, MCDropoutPipeline, make_convlstm_pipeline, make_dinov2nn_pipeline, make_ofnn_pipeline
 
 __all__ = [
     "make_convlstm_pipeline",
     "make_ofnn_pipeline",
     "make_dinov2nn_pipeline",
     "FrameScaler",
+    "MCDropoutPipeline",
     "OFNNClassifier",
     "DINOv2NNClassifier",
     "ConvLSTMClassifier",

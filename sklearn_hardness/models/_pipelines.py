@@ -11,11 +11,72 @@ from __future__ import annotations
 import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.pipeline import Pipeline
+from sklearn.utils.metaestimators import available_if
 from sklearn.utils.validation import check_is_fitted
 
 from ..utils._validation import check_frames_array
 
-__all__ = ["FrameScaler", "make_convlstm_pipeline", "make_ofnn_pipeline", "make_dinov2nn_pipeline"]
+__all__ = [
+    "FrameScaler",
+    "MCDropoutPipeline",
+    "make_convlstm_pipeline",
+    "make_ofnn_pipeline",
+    "make_dinov2nn_pipeline",
+]
+
+
+def _final_estimator_has_samples(pipeline):
+    return hasattr(pipeline._final_estimator, "predict_proba_samples")
+
+
+class MCDropoutPipeline(Pipeline):
+    """A :class:`~sklearn.pipeline.Pipeline` that also forwards ``predict_proba_samples``.
+
+    Identical to scikit-learn's Pipeline, plus :meth:`predict_proba_samples`:
+    ``X`` goes through the ``transform`` of every step but the last, and the
+    last step's Monte-Carlo-dropout sampler is called on the result, so
+    frame selection and frozen features run once for all passes. The
+    ``make_*_pipeline`` functions return one.
+
+    Examples
+    --------
+    >>> from sklearn.preprocessing import StandardScaler
+    >>> from sklearn_hardness.models import MCDropoutPipeline, OFNNClassifier
+    >>> import numpy as np
+    >>> X = np.random.default_rng(0).normal(size=(20, 6)).astype(np.float32)
+    >>> y = np.arange(20) % 2
+    >>> pipe = MCDropoutPipeline([("scale", StandardScaler()),
+    ...                           ("clf", OFNNClassifier(max_epochs=2, random_state=0))]).fit(X, y)
+    >>> pipe.predict_proba_samples(X[:3], n_samples=4, random_state=0).shape
+    (4, 3, 2)
+    """
+
+    @available_if(_final_estimator_has_samples)
+    def predict_proba_samples(self, X, n_samples=50, random_state=None, **params):
+        """Monte-Carlo-dropout class probabilities of the final step.
+
+        Parameters
+        ----------
+        X : iterable
+            Input of the first step (e.g. a sequence of press videos).
+        n_samples : int, default=50
+            Stochastic forward passes.
+        random_state : int or None, default=None
+            Seed of the dropout masks.
+        **params
+            Passed to the final step's ``predict_proba_samples``.
+
+        Returns
+        -------
+        proba_samples : ndarray of shape (n_samples, n_X, n_classes)
+        """
+        check_is_fitted(self)
+        Xt = X
+        for _, _, transformer in self._iter(with_final=False):
+            Xt = transformer.transform(Xt)
+        return self._final_estimator.predict_proba_samples(
+            Xt, n_samples=n_samples, random_state=random_state, **params
+        )
 
 
 class FrameScaler(TransformerMixin, BaseEstimator):
@@ -66,14 +127,14 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(18, 24), color="gray", **
 
     Returns
     -------
-    pipeline : sklearn.pipeline.Pipeline
+    pipeline : MCDropoutPipeline
         Steps ``"frames"``, ``"scale"``, ``"clf"``; works with
         :class:`~sklearn_hardness.active.ActiveLearner` and ``GridSearchCV``
         (``clf__dropout``).
     """
     from ._convlstm import ConvLSTMClassifier
 
-    return Pipeline([("frames", _selector(n_between, frame_size, color)), ("scale", FrameScaler()),
+    return MCDropoutPipeline([("frames", _selector(n_between, frame_size, color)), ("scale", FrameScaler()),
                      ("clf", ConvLSTMClassifier(**classifier_params))])
 
 
@@ -83,7 +144,7 @@ def make_ofnn_pipeline(*, n_between=2, frame_size=(120, 160), n_features=500, **
     from ._mlp import OFNNClassifier
 
     # raw frames, not differences: optical flow tracks the gel's markers
-    return Pipeline([("frames", _selector(n_between, frame_size, "gray", subtract_first=False)),
+    return MCDropoutPipeline([("frames", _selector(n_between, frame_size, "gray", subtract_first=False)),
                      ("features", OpticalFlowFeatures(n_features=n_features)),
                      ("clf", OFNNClassifier(**classifier_params))])
 
@@ -98,6 +159,6 @@ def make_dinov2nn_pipeline(*, n_between=1, frame_size=(112, 150), model="faceboo
     from ..features import DINOv2Features
     from ._mlp import DINOv2NNClassifier
 
-    return Pipeline([("frames", _selector(n_between, frame_size, "rgb")),
+    return MCDropoutPipeline([("frames", _selector(n_between, frame_size, "rgb")),
                      ("features", DINOv2Features(model=model)),
                      ("clf", DINOv2NNClassifier(**classifier_params))])
