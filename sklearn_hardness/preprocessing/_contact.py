@@ -429,18 +429,23 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         return np.ascontiguousarray(frames, dtype=np.float32)
 
     def _transform_with(self, X, selection):
-        frames = Parallel(n_jobs=self.n_jobs, prefer="threads")(
-            delayed(self._extract)(X[i], selection.indices[i], f"X[{i}]") for i in range(len(X))
-        )
-        shapes = {f.shape[1:] for f in frames}
-        if len(shapes) > 1:
-            first = frames[0].shape[1:]
-            odd = next(i for i, f in enumerate(frames) if f.shape[1:] != first)
-            raise ValueError(
-                f"Videos have different frame sizes (X[0]: {first[:2]}, X[{odd}]: "
-                f"{frames[odd].shape[1:3]}); set output_size=(height, width) to resize them."
-            )
-        return np.stack(frames)
+        # The first video fixes the output shape; the others are written straight
+        # into one preallocated array (no list of copies to stack).
+        first = self._extract(X[0], selection.indices[0], "X[0]")
+        out = np.empty((len(X),) + first.shape, dtype=np.float32)
+        out[0] = first
+
+        def fill(i):
+            frames = self._extract(X[i], selection.indices[i], f"X[{i}]")
+            if frames.shape != first.shape:
+                raise ValueError(
+                    f"Videos have different frame sizes (X[0]: {first.shape[1:3]}, X[{i}]: "
+                    f"{frames.shape[1:3]}); set output_size=(height, width) to resize them."
+                )
+            out[i] = frames
+
+        Parallel(n_jobs=self.n_jobs, prefer="threads")(delayed(fill)(i) for i in range(1, len(X)))
+        return out
 
     # ------------------------------------------------------------- estimator
     def fit(self, X, y=None):
