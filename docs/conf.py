@@ -12,6 +12,7 @@ extensions = [
     "sphinx.ext.mathjax",
     "numpydoc",
     "sphinx_gallery.gen_gallery",
+    "myst_parser",
 ]
 autosummary_generate = True
 numpydoc_show_class_members = False
