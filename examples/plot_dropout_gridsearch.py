@@ -1,7 +1,7 @@
 """
-=====================================
+========================================
 Choosing the dropout rate by grid search
-=====================================
+========================================
 
 Dropout does two jobs here: it regularises the classifier and, kept on at
 prediction time, it gives the Monte-Carlo samples whose spread drives active

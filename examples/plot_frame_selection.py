@@ -1,7 +1,7 @@
 """
-==============================================
+===============================================
 Selecting the loading period of tactile presses
-==============================================
+===============================================
 
 The paper (Sec. II-A) feeds its classifiers only the *loading period* of a
 press: from the first frame of contact to the frame of maximum deformation.

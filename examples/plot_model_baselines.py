@@ -1,7 +1,7 @@
 """
-==========================================
+========================================
 Model baselines: five presses per object
-==========================================
+========================================
 
 The paper (Sec. III-D, Fig. 3) trains each classifier on five presses per
 reference object and tests it on held-out presses. Here we run the same

@@ -1,6 +1,6 @@
 """
 Simulated GelSight presses: what the camera sees and the mechanics behind it
-===========================================================================
+============================================================================
 
 :func:`sklearn_hardness.datasets.make_presses` simulates the paper's robot
 dataset (``silicone5``): five silicone objects of compliance 0.44 to

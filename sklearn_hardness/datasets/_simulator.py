@@ -283,10 +283,14 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_si
             ``offset_y`` (mm), ``n_before``, ``n_after``, ``force_peak``
             (true peak force), ``t_contact``, ``t_trigger``, ``t_release`` (s).
         fps : float
+            Frame rate of the simulated camera.
         params : dict
             All physical parameters used.
         mechanics : list of dict, only if ``return_mechanics=True``
+            Per-frame mechanical quantities of each press (force, approach,
+            gel indentation, contact radius).
         DESCR : str
+            A description of the dataset.
 
     Raises
     ------
