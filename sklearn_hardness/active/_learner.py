@@ -282,8 +282,18 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             return
         import torch
 
+        from ..models._mc_dropout import _GLOBAL_RNG_LOCK, MCDropoutClassifierBase
+
         seed = _seed_from(self._rng)
-        with torch.random.fork_rng(devices=[]):
+        final = self._final()
+        if isinstance(final, MCDropoutClassifierBase) and final.random_state is not None:
+            # our nets draw from their own generators, seeded by random_state: no
+            # need to seed (and lock) torch's process-wide generator for the training
+            yield
+            return
+        # other torch code draws from the global generator: seed it, and hold the
+        # lock so that runs in other threads cannot reseed it meanwhile
+        with _GLOBAL_RNG_LOCK, torch.random.fork_rng(devices=[]):
             torch.manual_seed(seed)
             yield
 

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import contextlib
 import numbers
+import threading
 
 import numpy as np
 import torch
@@ -38,6 +39,11 @@ from sklearn.utils.validation import check_consistent_length, column_or_1d
 from ..utils._validation import check_positive_int
 
 __all__ = ["MCDropout", "MCDropoutClassifierBase"]
+
+# Seeding torch's *global* generator (fork_rng + manual_seed) is process-wide: two
+# threads doing it at once (joblib's threading backend, a Dask cluster of threads)
+# would draw from each other's seeds. Every such section holds this lock.
+_GLOBAL_RNG_LOCK = threading.RLock()
 
 #: Bytes of activations one MC forward call may hold, per device type (the
 #: default chunk size of :meth:`MCDropoutClassifierBase.predict_proba_samples`
@@ -232,7 +238,7 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
         if seed is None:
             module = module_cls(**kwargs)
         else:
-            with torch.random.fork_rng(devices=[]):
+            with _GLOBAL_RNG_LOCK, torch.random.fork_rng(devices=[]):
                 torch.manual_seed(seed)
                 module = module_cls(**kwargs)
         self.module_ = module
@@ -519,7 +525,8 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
                 if plain_dropout
                 else contextlib.nullcontext()
             )
-            with fork, _dropout_generator(module, gen), torch.inference_mode():
+            lock = _GLOBAL_RNG_LOCK if plain_dropout else contextlib.nullcontext()
+            with lock, fork, _dropout_generator(module, gen), torch.inference_mode():
                 if plain_dropout:
                     torch.manual_seed(seed)
                 for i0 in range(0, n, b):
