@@ -29,25 +29,10 @@ import numpy as np
 import torch
 
 from sklearn_hardness.models import ConvLSTMClassifier
+from _memory import peak_rss_mb, reset_peak  # benchmarks/_memory.py (the script's folder is on sys.path)
 
 COMPLIANCE = np.array([1.13, 1.02, 0.79, 0.68, 0.44])  # mm/N, the paper's objects
 C_GEL = 0.3  # mm/N
-
-
-def reset_peak():
-    try:
-        with open("/proc/self/clear_refs", "w") as f:
-            f.write("5")
-    except OSError:
-        pass
-
-
-def peak_rss_mb():
-    with open("/proc/self/status") as f:
-        for line in f:
-            if line.startswith("VmHWM"):
-                return int(line.split()[1]) / 1024
-    return float("nan")
 
 
 def synthetic_selected_frames(n, k=4, size=(240, 320), seed=0):

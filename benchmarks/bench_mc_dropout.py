@@ -27,22 +27,7 @@ import numpy as np
 import torch
 
 from sklearn_hardness.models import ConvLSTMClassifier, DINOv2NNClassifier, MCDropout
-
-
-def reset_peak():
-    try:
-        with open("/proc/self/clear_refs", "w") as f:
-            f.write("5")
-    except OSError:
-        pass
-
-
-def peak_rss_mb():
-    with open("/proc/self/status") as f:
-        for line in f:
-            if line.startswith("VmHWM"):
-                return int(line.split()[1]) / 1024
-    return float("nan")
+from _memory import peak_rss_mb, reset_peak  # benchmarks/_memory.py (the script's folder is on sys.path)
 
 
 def loop_module(net, X, n_samples, batch_size):
