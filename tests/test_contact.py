@@ -239,3 +239,20 @@ def test_indices_property(n_frames, start, length, n_between, seed):
     assert np.isfinite(s.curves[0]).all()
     if s.contact_found[0]:
         assert s.contact_start[0] <= s.contact_peak[0]
+
+
+def test_each_video_is_loaded_once():
+    from sklearn_hardness.datasets import LazyVideoSequence
+
+    loads = []
+    videos = [synthetic_press(seed=s) for s in range(4)]
+    lazy = LazyVideoSequence(lambda k: loads.append(k) or videos[k], range(4))
+    sel = ContactFrameSelector(n_jobs=2)
+    out = sel.fit_transform(lazy)
+    assert sorted(loads) == [0, 1, 2, 3]  # decoding/rendering is the expensive part: once per video
+    loads.clear()
+    np.testing.assert_array_equal(sel.transform(lazy), out)
+    assert sorted(loads) == [0, 1, 2, 3]
+    loads.clear()
+    sel.select(lazy)
+    assert sorted(loads) == [0, 1, 2, 3]

@@ -165,8 +165,8 @@ def _locate_contact(curve, threshold, n_baseline, min_contrast):
     return start, peak, tau, True
 
 
-def _select_one(video, *, name, k, threshold, n_baseline, min_contrast, roi):
-    video = check_video(video, name=name, min_frames=2)
+def _select_one(video, *, k, threshold, n_baseline, min_contrast, roi):
+    """Selection of one validated video: (indices, start, peak, threshold, found, curve)."""
     curve = contact_curve(video, roi=roi)
     start, peak, tau, found = _locate_contact(curve, threshold, n_baseline, min_contrast)
     if not found:
@@ -371,19 +371,50 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
             With ``on_no_contact="raise"``, if any video never reaches
             contact; or if a video is invalid.
         """
+        return self._run(X, extract=False)[1]
+
+    def _run(self, X, extract):
+        """Select (and with ``extract``, cut out) the frames of every video.
+
+        Each video is loaded, validated and scanned once: with a lazy sequence,
+        loading (decoding or rendering) is the expensive part. Extracted frames
+        go straight into one preallocated array, whose shape the first video
+        fixes. Returns ``(frames or None, selection)``.
+        """
         self._validate_params()
         check_video_sequence(X)
-        k = self.n_between + 2
         kwargs = dict(
-            k=k,
+            k=self.n_between + 2,
             threshold=self.threshold,
             n_baseline=self.n_baseline,
             min_contrast=self.min_contrast,
             roi=self.roi,
         )
-        results = Parallel(n_jobs=self.n_jobs, prefer="threads")(
-            delayed(_select_one)(X[i], name=f"X[{i}]", **kwargs) for i in range(len(X))
-        )
+        n = len(X)
+        results = [None] * n
+        out = None
+
+        def one(i):
+            name = f"X[{i}]"
+            video = check_video(X[i], name=name, min_frames=2)
+            results[i] = _select_one(video, **kwargs)
+            if not extract:
+                return
+            frames = self._extract(video, results[i][0], name)
+            if out is None:
+                return frames
+            if frames.shape != out.shape[1:]:
+                raise ValueError(
+                    f"Videos have different frame sizes (X[0]: {out.shape[2:4]}, {name}: "
+                    f"{frames.shape[1:3]}); set output_size=(height, width) to resize them."
+                )
+            out[i] = frames
+
+        first = one(0)
+        if extract:
+            out = np.empty((n,) + first.shape, dtype=np.float32)
+            out[0] = first
+        Parallel(n_jobs=self.n_jobs, prefer="threads")(delayed(one)(i) for i in range(1, n))
         selection = Bunch(
             indices=np.stack([r[0] for r in results]),
             contact_start=np.array([r[1] for r in results], dtype=int),
@@ -398,19 +429,19 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
             more = " ..." if missing.size > 20 else ""
             if self.on_no_contact == "raise":
                 raise ValueError(
-                    f"{missing.size} of {len(X)} video(s) never reach contact: X{listed}{more}. "
+                    f"{missing.size} of {n} video(s) never reach contact: X{listed}{more}. "
                     "Lower `threshold`, check the videos, or set on_no_contact='fallback'."
                 )
             warnings.warn(
-                f"{missing.size} of {len(X)} video(s) never reach contact (X{listed}{more}); their "
+                f"{missing.size} of {n} video(s) never reach contact (X{listed}{more}); their "
                 "frames were spread from the first frame to the frame of largest change.",
                 ContactNotFoundWarning,
                 stacklevel=3,
             )
-        return selection
+        return out, selection
 
     def _extract(self, video, indices, name):
-        video = check_video(video, name=name, min_frames=2)
+        """The selected frames of one validated video, scaled, cropped, converted, resized."""
         rows, cols = _roi_slices(video.shape[1:3], self.roi, name)
         frames = _as_float255(video[indices][:, rows, cols], name)
         if self.subtract_first:
@@ -427,25 +458,6 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
                 resized = [cv2.resize(f, (w, h), interpolation=cv2.INTER_AREA) for f in frames]
                 frames = np.stack([r if r.ndim == 3 else r[..., np.newaxis] for r in resized])
         return np.ascontiguousarray(frames, dtype=np.float32)
-
-    def _transform_with(self, X, selection):
-        # The first video fixes the output shape; the others are written straight
-        # into one preallocated array (no list of copies to stack).
-        first = self._extract(X[0], selection.indices[0], "X[0]")
-        out = np.empty((len(X),) + first.shape, dtype=np.float32)
-        out[0] = first
-
-        def fill(i):
-            frames = self._extract(X[i], selection.indices[i], f"X[{i}]")
-            if frames.shape != first.shape:
-                raise ValueError(
-                    f"Videos have different frame sizes (X[0]: {first.shape[1:3]}, X[{i}]: "
-                    f"{frames.shape[1:3]}); set output_size=(height, width) to resize them."
-                )
-            out[i] = frames
-
-        Parallel(n_jobs=self.n_jobs, prefer="threads")(delayed(fill)(i) for i in range(1, len(X)))
-        return out
 
     # ------------------------------------------------------------- estimator
     def fit(self, X, y=None):
@@ -477,8 +489,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         -------
         frames : ndarray of shape (n, n_between + 2, H', W', C'), float32
         """
-        selection = self.select(X)
-        out = self._transform_with(X, selection)
+        out, selection = self._run(X, extract=True)
         self.selection_ = selection
         self.n_frames_out_ = self.n_between + 2
         self.frame_shape_ = tuple(out.shape[2:])
@@ -499,7 +510,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
             or raw frames in [0, 1].
         """
         check_is_fitted(self, "selection_")
-        out = self._transform_with(X, self.select(X))
+        out, _ = self._run(X, extract=True)
         if tuple(out.shape[2:]) != self.frame_shape_:
             raise ValueError(
                 f"X gives frames of shape {tuple(out.shape[2:])} but the videos seen in fit gave "
