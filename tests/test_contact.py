@@ -256,3 +256,15 @@ def test_each_video_is_loaded_once():
     loads.clear()
     sel.select(lazy)
     assert sorted(loads) == [0, 1, 2, 3]
+
+
+def test_other_joblib_backends_around_the_call():
+    # the per-video jobs fill shared arrays: a process backend configured by the
+    # user (e.g. dask, loky) must not make their results disappear
+    import joblib
+
+    videos = [synthetic_press(seed=s) for s in range(3)]
+    expected = ContactFrameSelector(n_jobs=1).fit_transform(videos)
+    with joblib.parallel_config(backend="loky"):
+        out = ContactFrameSelector(n_jobs=2).fit_transform(videos)
+    np.testing.assert_array_equal(out, expected)

@@ -414,7 +414,9 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         if extract:
             out = np.empty((n,) + first.shape, dtype=np.float32)
             out[0] = first
-        Parallel(n_jobs=self.n_jobs, prefer="threads")(delayed(one)(i) for i in range(1, n))
+        # the jobs write into results and out: they must share this process's memory, also
+        # when joblib.parallel_config(backend="dask"|"loky") is active around the call
+        Parallel(n_jobs=self.n_jobs, require="sharedmem")(delayed(one)(i) for i in range(1, n))
         selection = Bunch(
             indices=np.stack([r[0] for r in results]),
             contact_start=np.array([r[1] for r in results], dtype=int),
