@@ -236,3 +236,24 @@ def test_properties_over_extreme_inputs(p):
     assert b.sum() <= np.log(m) + 1e-9
     if p.shape[0] == 1:
         assert np.all(b == 0)
+
+
+def test_variance_decomposition_sums_to_eq2_and_separates_sources():
+    from sklearn_hardness.active import variance_decomposition
+
+    rng = np.random.default_rng(0)
+    logits = rng.normal(size=(30, 5, 4))
+    p = np.exp(logits) / np.exp(logits).sum(-1, keepdims=True)
+    d = variance_decomposition(p)
+    np.testing.assert_allclose(d["mc"] + d["between"], class_uncertainty(p, "variance"), atol=1e-12)
+    np.testing.assert_allclose(d["total"], class_uncertainty(p, "variance"), atol=1e-12)
+    # identical passes: all of the variance is between presses
+    same = np.repeat(p[:1], 30, axis=0)
+    d = variance_decomposition(same)
+    np.testing.assert_allclose(d["mc"], 0, atol=1e-15)
+    np.testing.assert_allclose(d["mc_share"], 0, atol=1e-12)
+    # identical presses: all of it is MC
+    one = np.repeat(p[:, :1], 5, axis=1)
+    d = variance_decomposition(one)
+    np.testing.assert_allclose(d["between"], 0, atol=1e-15)
+    np.testing.assert_allclose(d["mc_share"], 1, atol=1e-12)

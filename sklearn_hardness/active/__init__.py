@@ -6,7 +6,8 @@ object, and press the most uncertain one again (Algorithm 1).
 
 - :func:`class_uncertainty`: per-class entropy (Eq. 1), variance (Eq. 2) and
   BALD from an ``(n_samples, n_X, n_classes)`` array of MC-dropout
-  probabilities.
+  probabilities; :func:`variance_decomposition` splits Eq. 2 into its
+  MC-dropout part and its between-press part.
 - :func:`entropy_sampling`, :func:`variance_sampling`, :func:`bald_sampling`,
   :func:`random_sampling`: modAL-style strategies returning
   ``(class_indices, scores)``.
@@ -24,12 +25,13 @@ from ._strategies import (
     random_sampling,
     variance_sampling,
 )
-from ._uncertainty import UNCERTAINTY_KINDS, class_uncertainty
+from ._uncertainty import UNCERTAINTY_KINDS, class_uncertainty, variance_decomposition
 
 __all__ = [
     "ActiveLearner",
     "PressOracle",
     "class_uncertainty",
+    "variance_decomposition",
     "UNCERTAINTY_KINDS",
     "entropy_sampling",
     "variance_sampling",

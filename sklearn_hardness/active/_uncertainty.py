@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import xlogy
 
-__all__ = ["class_uncertainty", "UNCERTAINTY_KINDS"]
+__all__ = ["class_uncertainty", "variance_decomposition", "UNCERTAINTY_KINDS"]
 
 #: The kinds of per-class uncertainty :func:`class_uncertainty` computes.
 UNCERTAINTY_KINDS = ("entropy", "variance", "bald")
@@ -206,3 +206,61 @@ def class_uncertainty(proba_samples, kind="entropy", *, atol=None):
     p_bar = p.mean(axis=0)  # (n_X, n_classes)
     term = -xlogy(p_bar, p_bar) + xlogy(p, p).mean(axis=0)
     return np.maximum(term.mean(axis=0), 0.0)
+
+
+def variance_decomposition(proba_samples, *, atol=None):
+    r"""Split the paper's pooled variance (Eq. 2) into its MC and between-press parts.
+
+    With :math:`p_{ijk}` the probability of class :math:`i` in MC pass
+    :math:`j` for test press :math:`k`, :math:`m_{ik} = \frac{1}{n}\sum_j
+    p_{ijk}` the press's mean over passes and :math:`\mu_i` the pooled mean,
+    the law of total variance splits Eq. 2 exactly:
+
+    .. math::
+
+        \mathrm{Var}_i
+        = \underbrace{\frac{1}{l}\sum_k \frac{1}{n}\sum_j (p_{ijk} - m_{ik})^2}_{\text{MC part}}
+        + \underbrace{\frac{1}{l}\sum_k (m_{ik} - \mu_i)^2}_{\text{between-press part}}.
+
+    The MC part is the model's own (epistemic) spread under dropout; the
+    between-press part is how differently the test presses are classified,
+    which stays when dropout is off. A query driven by the second part is
+    not driven by the model's uncertainty.
+
+    Parameters
+    ----------
+    proba_samples : array-like of shape (n_samples, n_X, n_classes)
+        Class probabilities of ``n_samples`` MC-dropout passes on ``n_X``
+        test presses, e.g. ``clf.predict_proba_samples(X_test)``.
+    atol : float, default=None
+        Tolerance on probabilities, as in :func:`class_uncertainty`.
+
+    Returns
+    -------
+    decomposition : dict of ndarray of shape (n_classes,)
+        ``"total"`` (Eq. 2, equal to ``class_uncertainty(p, "variance")``),
+        ``"mc"`` and ``"between"`` (the two parts, summing to ``"total"``)
+        and ``"mc_share"`` (``mc / total``, 0 where ``total`` is 0).
+
+    See Also
+    --------
+    class_uncertainty : the pooled scores themselves.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.active import variance_decomposition
+    >>> p = np.array([[[0.9, 0.1], [0.5, 0.5]],
+    ...               [[0.7, 0.3], [0.5, 0.5]]])  # 2 passes, 2 presses, 2 classes
+    >>> d = variance_decomposition(p)
+    >>> d["mc"], d["between"], d["total"]
+    (array([0.005, 0.005]), array([0.0225, 0.0225]), array([0.0275, 0.0275]))
+    """
+    p = _check_proba_samples(proba_samples, atol=atol)
+    m = p.mean(axis=0)  # (n_X, n_classes): per-press mean over passes
+    mc = ((p - m) ** 2).mean(axis=(0, 1))
+    between = ((m - m.mean(axis=0)) ** 2).mean(axis=0)
+    total = mc + between
+    with np.errstate(invalid="ignore", divide="ignore"):
+        share = np.where(total > 0, mc / np.where(total > 0, total, 1.0), 0.0)
+    return {"total": total, "mc": mc, "between": between, "mc_share": share}
