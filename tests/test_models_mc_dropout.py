@@ -6,6 +6,8 @@ import numpy as np
 import pytest
 import torch
 from sklearn.base import clone
+from sklearn.exceptions import NotFittedError
+from sklearn.utils._param_validation import InvalidParameterError
 
 from sklearn_hardness.models import (
     ConvLSTMClassifier,
@@ -228,8 +230,13 @@ def test_bad_parameters(case):
     _, _, _, _, _, net = case
     with pytest.raises(ValueError, match="n_samples"):
         net.predict_proba_samples(X, n_samples=0)
-    with pytest.raises(ValueError, match="infers the size"):
-        cls(**kw).initialize()
+    # initialize() alone builds a stand-in; the net is not fitted until it sees data
+    with pytest.raises(NotFittedError):
+        cls(**kw).initialize().predict_proba(X)
+    with pytest.raises(InvalidParameterError, match="class_weight"):
+        cls(class_weight="uniform", **kw).fit(X, y)
+    with pytest.raises(InvalidParameterError, match="lr"):
+        cls(lr=-1.0, **kw).fit(X, y)
 
 
 def test_device_auto_is_kept_as_parameter(case):

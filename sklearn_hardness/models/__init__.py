@@ -11,7 +11,8 @@ convergence rule.
 
 from ._convergence import check_convergence, is_converged
 from ._convlstm import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
-from ._mc_dropout import MCDropout, MCDropoutClassifierBase
+from ._mc_dropout import MCDropoutClassifierBase
+from ._mc_sampling import MCDropout
 from ._mlp import DINOv2NNClassifier, MLPHead, OFNNClassifier
 from ._pipelines import FrameScaler, MCDropoutPipeline, make_convlstm_pipeline, make_dinov2nn_pipeline, make_ofnn_pipeline
 

@@ -6,9 +6,11 @@ import numbers
 
 import numpy as np
 import torch
+from sklearn.utils._param_validation import Interval, StrOptions
 
-from ..utils._validation import check_frames_array, check_positive_int
-from ._mc_dropout import MCDropout, MCDropoutClassifierBase
+from ..utils._validation import check_frames_array
+from ._mc_dropout import MCDropoutClassifierBase
+from ._mc_sampling import MCDropout
 
 __all__ = ["ConvLSTMLayer", "ConvLSTMNet", "ConvLSTMClassifier"]
 
@@ -81,15 +83,19 @@ class ConvLSTMLayer(torch.nn.Module):
         return self.recur(self.project_input(x), return_sequence=return_sequence)
 
 
+DROPOUT_PLACEMENTS = ("layers", "channels", "head")
+
+
 class ConvLSTMNet(torch.nn.Module):
-    """Stacked ConvLSTM layers with dropout after each, and a linear head.
+    """Stacked ConvLSTM layers, global average pooling and a linear head.
 
     Input (B, k, H, W, C) channels-last (as produced by
-    :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`), permuted
-    to channels-first inside. Each layer returns its whole hidden sequence
-    to the next one; the last layer's final hidden state (after dropout) is
-    averaged over space and mapped to class logits by a linear layer, so the
-    net works at any frame size.
+    :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`), standardised
+    with the stored ``input_mean``/``input_scale`` and permuted to
+    channels-first inside. Each layer returns its whole hidden sequence to the
+    next one; the last layer's final hidden state is averaged over space and
+    mapped to class logits by a linear layer, so the net works at any frame
+    size.
 
     Parameters
     ----------
@@ -102,39 +108,65 @@ class ConvLSTMNet(torch.nn.Module):
     kernel_size : int, default=3
         Convolution size of every layer.
     dropout : float, default=0.2
-        Dropout probability after each layer.
+        Dropout probability.
+    dropout_placement : {"layers", "channels", "head"}, default="layers"
+        ``"layers"``: element-wise dropout after each ConvLSTM layer (the
+        paper); ``"channels"``: the same places, one mask per channel map
+        (shared over time and space, so pooling keeps it); ``"head"``: one
+        dropout on the pooled features before the linear head.
     input_shape : tuple of int or None, default=None
         The (k, H, W, C) seen during fit, kept as a buffer so saved
         parameters remember it; not used in the computation.
+    input_mean, input_scale : sequence of float or None, default=None
+        Per-channel statistics of the training frames; the input is
+        standardised as ``(X - input_mean) / input_scale``. Buffers, so saved
+        parameters and pickles carry them. ``None`` means 0 and 1.
     """
 
     def __init__(
-        self, in_channels, n_classes, filters=(4, 8, 14, 16), kernel_size=3, dropout=0.2, input_shape=None
+        self, in_channels, n_classes, filters=(4, 8, 14, 16), kernel_size=3, dropout=0.2, input_shape=None,
+        dropout_placement="layers", input_mean=None, input_scale=None,
     ):
         super().__init__()
+        if dropout_placement not in DROPOUT_PLACEMENTS:
+            raise ValueError(f"dropout_placement must be one of {DROPOUT_PLACEMENTS}, got {dropout_placement!r}.")
         filters = tuple(int(f) for f in filters)
         chans = (int(in_channels),) + filters
+        self.dropout_placement = dropout_placement
         self.layers = torch.nn.ModuleList(
             ConvLSTMLayer(chans[i], chans[i + 1], kernel_size) for i in range(len(filters))
         )
-        self.dropouts = torch.nn.ModuleList(MCDropout(dropout) for _ in filters)
+        n_drop = 1 if dropout_placement == "head" else len(filters)
+        per_channel = dropout_placement == "channels"
+        self.dropouts = torch.nn.ModuleList(MCDropout(dropout, per_channel=per_channel) for _ in range(n_drop))
         self.head = torch.nn.Linear(filters[-1], int(n_classes))
         shape = torch.tensor(input_shape if input_shape is not None else [-1, -1, -1, in_channels])
         self.register_buffer("input_shape", shape.to(torch.int64))
+        mean = torch.zeros(int(in_channels)) if input_mean is None else torch.as_tensor(input_mean)
+        scale = torch.ones(int(in_channels)) if input_scale is None else torch.as_tensor(input_scale)
+        self.register_buffer("input_mean", mean.to(torch.float32).reshape(-1))
+        self.register_buffer("input_scale", scale.to(torch.float32).reshape(-1))
+
+    def _replicate(self, x, n_replicas):
+        return x.repeat((n_replicas,) + (1,) * (x.dim() - 1)) if n_replicas > 1 else x
 
     def forward(self, X, n_replicas=1):
         """Logits (n_replicas * B, n_classes), replica-major.
 
-        The first ConvLSTM layer comes before any dropout, so it is
-        deterministic: it runs once per input and its hidden states are tiled
-        ``n_replicas`` times. Everything after the first dropout runs per
+        Everything before the first dropout is deterministic: it runs once
+        per input and its output is tiled ``n_replicas`` times (the first
+        ConvLSTM layer with ``"layers"``/``"channels"``, the whole recurrent
+        stack and the pooling with ``"head"``). Everything after it runs per
         replica (each row draws its own masks).
         """
-        x = X.permute(0, 1, 4, 2, 3)  # (B, T, C, H, W)
+        x = ((X - self.input_mean) / self.input_scale).permute(0, 1, 4, 2, 3)  # (B, T, C, H, W)
         n = len(self.layers)
-        seq = self.layers[0](x, return_sequence=n > 1)
-        if n_replicas > 1:
-            seq = seq.repeat((n_replicas,) + (1,) * (seq.dim() - 1))
+        if self.dropout_placement == "head":
+            for li in range(n):
+                x = self.layers[li](x, return_sequence=li < n - 1)
+            pooled = self._replicate(x.mean(dim=(-2, -1)), n_replicas)
+            return self.head(self.dropouts[0](pooled))
+        seq = self._replicate(self.layers[0](x, return_sequence=n > 1), n_replicas)
         seq = self.dropouts[0](seq)
         for li in range(1, n):
             seq = self.layers[li](seq, return_sequence=li < n - 1)
@@ -227,6 +259,15 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
     (5, 2, 2)
     """
 
+    _parameter_constraints = {
+        **MCDropoutClassifierBase._parameter_constraints,
+        "filters": [tuple, list],
+        "kernel_size": [Interval(numbers.Integral, 1, None, closed="left")],
+        "dropout_placement": [StrOptions(set(DROPOUT_PLACEMENTS))],
+        "standardize": ["boolean"],
+    }
+    _input_meta_attrs = ("n_frames_in_", "frame_shape_", "input_mean_", "input_scale_")
+
     def __init__(
         self,
         module=ConvLSTMNet,
@@ -234,6 +275,9 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         filters=(4, 8, 14, 16),
         kernel_size=3,
         dropout=0.2,
+        dropout_placement="layers",
+        standardize=True,
+        class_weight=None,
         random_state=None,
         criterion=torch.nn.CrossEntropyLoss,
         optimizer=torch.optim.Adam,
@@ -249,6 +293,7 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         super().__init__(
             module,
             dropout=dropout,
+            class_weight=class_weight,
             random_state=random_state,
             criterion=criterion,
             optimizer=optimizer,
@@ -263,6 +308,8 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         )
         self.filters = filters
         self.kernel_size = kernel_size
+        self.dropout_placement = dropout_placement
+        self.standardize = standardize
 
     def _check_X(self, X, reset):
         if reset:
@@ -280,10 +327,21 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
             return X
         return check_frames_array(X, n_frames=self.n_frames_in_, frame_shape=self.frame_shape_)
 
-    def _has_input_meta(self):
-        return hasattr(self, "frame_shape_") and (
-            self.classes is not None or hasattr(self, "classes_inferred_")
-        )
+    def _fit_input_stats(self, X):
+        C = X.shape[-1]
+        if self.standardize:
+            flat = X.reshape(-1, C)
+            mean = flat.mean(axis=0, dtype=np.float64)
+            std = flat.std(axis=0, dtype=np.float64)
+            self.input_mean_ = mean.astype(np.float32)
+            self.input_scale_ = np.where(std > 0, std, 1.0).astype(np.float32)
+        else:
+            self.input_mean_ = np.zeros(C, np.float32)
+            self.input_scale_ = np.ones(C, np.float32)
+
+    def _placeholder_meta(self):
+        return {"in_channels": 1, "n_classes": 2, "filters": (1,), "kernel_size": 1, "dropout": self.dropout,
+                "dropout_placement": self.dropout_placement}
 
     def _module_defaults(self):
         filters = tuple(self.filters)
@@ -291,25 +349,32 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
             isinstance(f, bool) or not isinstance(f, numbers.Integral) or f < 1 for f in filters
         ):
             raise ValueError(f"filters must be a non-empty tuple of positive ints, got {self.filters!r}.")
-        ks = check_positive_int(self.kernel_size, "kernel_size")
         shape = (self.n_frames_in_ or -1,) + tuple(s if s is not None else -1 for s in self.frame_shape_)
         return {
             "in_channels": self.frame_shape_[-1],
             "n_classes": len(self.classes_),
             "filters": filters,
-            "kernel_size": ks,
+            "kernel_size": int(self.kernel_size),
             "dropout": self.dropout,
+            "dropout_placement": self.dropout_placement,
             "input_shape": shape,
+            "input_mean": self.input_mean_,
+            "input_scale": self.input_scale_,
         }
 
     def _meta_from_state_dict(self, state_dict):
         shape = [int(s) for s in state_dict["input_shape"].tolist()]
         self.n_frames_in_ = shape[0] if shape[0] > 0 else None
         self.frame_shape_ = tuple(shape[1:]) if shape[1] > 0 else (None, None, shape[3])
+        C = shape[3]
+        self.input_mean_ = state_dict.get("input_mean", torch.zeros(C)).numpy().astype(np.float32)
+        self.input_scale_ = state_dict.get("input_scale", torch.ones(C)).numpy().astype(np.float32)
         return int(state_dict["head.weight"].shape[0])
 
     def _mc_bytes_per_row(self, X):
         k, H, W, C = X.shape[1:]
+        if self.dropout_placement == "head":
+            return 4 * 3 * (int(tuple(self.filters)[-1]) + len(self.classes_))
         chans = (C,) + tuple(int(f) for f in self.filters)
         # per layer: input sequence + projected input (4h) + output sequence (h)
         per_step = max(chans[i] + 5 * chans[i + 1] for i in range(len(chans) - 1))

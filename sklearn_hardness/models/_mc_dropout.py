@@ -1,117 +1,44 @@
-"""Monte-Carlo dropout machinery shared by the classifiers.
+"""The skorch base class of the three Monte-Carlo-dropout classifiers.
 
-This module holds
+:class:`MCDropoutClassifierBase` is a :class:`skorch.NeuralNetClassifier`
+customised only through skorch's hooks and callbacks (``fit`` is skorch's):
 
-* :class:`MCDropout`, a dropout layer that can draw its masks from a
-  :class:`torch.Generator` of its own, so Monte-Carlo sampling and seeded
-  training never touch torch's global random number generator;
-* :class:`MCDropoutClassifierBase`, a :class:`skorch.NeuralNetClassifier`
-  with the behaviour all three classifiers share: label encoding (any
-  hashable labels), input validation, seeding through ``random_state``,
-  ``dropout`` as a plain parameter, ``device="auto"``, the training loss
-  after fit, and the batched :meth:`~MCDropoutClassifierBase.predict_proba_samples`.
-
-How batched MC sampling works
------------------------------
-A module used with :class:`MCDropoutClassifierBase` has a ``forward(X,
-n_replicas=1)`` method. It computes the deterministic part of the network
-that precedes the first dropout layer once for the ``b`` inputs, then tiles
-the result ``n_replicas`` times along the batch axis (replica-major: row
-``r * b + i`` is replica ``r`` of input ``i``) and runs the rest of the
-network on the ``n_replicas * b`` rows in one call. Each row gets its own
-dropout mask, so one call gives ``n_replicas`` independent MC passes; the
-output is reshaped to ``(n_replicas, b, n_classes)``. Chunks of inputs and
-replicas bound the memory of one call.
+* :class:`_TrainingDataSetter`, a default callback, validates the training
+  data at ``on_train_begin``; on a cold start (the first ``fit`` or
+  ``partial_fit`` after ``initialize``) it records what the network's size
+  depends on (input shape, classes, input statistics, class weights) and
+  rebuilds module, criterion and optimizer for it, as skorch's
+  ``InputShapeSetter`` does;
+* ``get_dataset`` validates ``X`` and encodes labels of any sortable type to
+  ``0..n_classes-1``; ``predict`` maps them back;
+* ``initialize`` validates the parameters (``_parameter_constraints``) and
+  seeds the initial weights, the shuffling and the dropout masks from
+  ``random_state``; ``get_iterator`` and ``train_step`` use those generators;
+* :meth:`MCDropoutClassifierBase.predict_proba_samples` calls the batched
+  sampler of :mod:`._mc_sampling`.
 """
 
 from __future__ import annotations
 
-import contextlib
 import numbers
-import threading
 
 import numpy as np
 import torch
-from skorch import NeuralNet, NeuralNetClassifier
+from skorch import NeuralNetClassifier
+from skorch.callbacks import Callback
+from skorch.dataset import Dataset
+from sklearn.exceptions import NotFittedError
 from sklearn.utils import check_random_state
+from sklearn.utils._param_validation import Interval, Options, StrOptions, validate_parameter_constraints
+from sklearn.utils.class_weight import compute_class_weight
 from sklearn.utils.validation import check_consistent_length, column_or_1d
 
 from ..utils._validation import check_positive_int
+from ._mc_sampling import _GLOBAL_RNG_LOCK, MC_MEMORY_BUDGET, MCDropout, dropout_generator, sample_proba, softmax
 
 __all__ = ["MCDropout", "MCDropoutClassifierBase"]
 
-# Seeding torch's *global* generator (fork_rng + manual_seed) is process-wide: two
-# threads doing it at once (joblib's threading backend, a Dask cluster of threads)
-# would draw from each other's seeds. Every such section holds this lock.
-_GLOBAL_RNG_LOCK = threading.RLock()
-
-#: Bytes of activations one MC forward call may hold, per device type (the
-#: default chunk size of :meth:`MCDropoutClassifierBase.predict_proba_samples`
-#: is derived from it). On CPU small chunks that stay in cache are fastest
-#: (measured in benchmarks/bench_mc_dropout.py); a GPU wants big batches.
-MC_MEMORY_BUDGET = {"cpu": 32 * 2**20, "cuda": 1024 * 2**20}
-
-
-class MCDropout(torch.nn.Module):
-    """Dropout whose masks can come from a dedicated random generator.
-
-    In training mode each element is zeroed with probability ``p`` and the
-    rest are scaled by ``1 / (1 - p)`` (inverted dropout, as
-    :class:`torch.nn.Dropout`). In evaluation mode the layer is the identity.
-    Masks are drawn from ``self.generator`` when it is set (the classifiers
-    set it while training with a ``random_state`` and while drawing MC
-    samples) and from torch's global generator otherwise.
-
-    Parameters
-    ----------
-    p : float, default=0.2
-        Probability of zeroing an element, in [0, 1).
-
-    Attributes
-    ----------
-    generator : torch.Generator or None
-        Source of the masks; ``None`` means torch's global generator. It is
-        not part of the module's state dict.
-    """
-
-    def __init__(self, p=0.2):
-        super().__init__()
-        self.p = _check_dropout(p)
-        self.generator = None
-
-    def forward(self, x):
-        if not self.training or self.p == 0:
-            return x
-        keep = 1.0 - self.p
-        # U < keep with U ~ Uniform[0, 1) is Bernoulli(keep); on CPU this is about
-        # 3x faster than Tensor.bernoulli_ (benchmarks/bench_mc_dropout.py).
-        mask = torch.rand(x.shape, generator=self.generator, device=x.device, dtype=x.dtype)
-        return x * mask.lt_(keep).mul_(1.0 / keep)
-
-    def extra_repr(self):
-        return f"p={self.p}"
-
-    def __getstate__(self):
-        state = self.__dict__.copy()
-        state["generator"] = None  # a generator is run-time state, never saved
-        return state
-
-
-def _check_dropout(p):
-    if isinstance(p, bool) or not isinstance(p, numbers.Real) or not (0.0 <= p < 1.0):
-        raise ValueError(f"dropout must be a float in [0, 1), got {p!r}.")
-    return float(p)
-
-
-def softmax(logits):
-    """Softmax over the last axis in float32 (or wider), numerically stable.
-
-    Same values as :func:`torch.softmax`, but several times faster on CPU for
-    the few classes (< 32) of these nets, which matters for MC sampling.
-    """
-    x = logits if logits.dtype in (torch.float32, torch.float64) else logits.float()
-    e = (x - x.amax(dim=-1, keepdim=True)).exp_()
-    return e.div_(e.sum(dim=-1, keepdim=True))
+# _GLOBAL_RNG_LOCK stays importable from here: active/_learner.py uses it.
 
 
 def resolve_device(device):
@@ -121,22 +48,50 @@ def resolve_device(device):
     return device
 
 
+class _TrainingDataSetter(Callback):
+    """Validate the training data; on a cold start size the net from it.
+
+    The first callback of every :class:`MCDropoutClassifierBase`, so that
+    callbacks after it (``LRScheduler``...) see the rebuilt optimizer.
+    """
+
+    def on_train_begin(self, net, X=None, y=None, **kwargs):
+        net._prepare_training(X, y)
+
+
 class MCDropoutClassifierBase(NeuralNetClassifier):
     """Base class of the MC-dropout classifiers (not for direct use).
 
     Subclasses define ``_check_X(X, reset)`` (validate input, remember its
-    shape when ``reset``), ``_module_defaults()`` (keyword arguments of the
-    module derived from the fitted data and parameters),
+    shape when ``reset``), ``_input_meta_attrs`` (the fitted attributes set
+    by ``_check_X``), ``_module_defaults()`` (keyword arguments of the module
+    derived from the fitted data and parameters), ``_placeholder_meta()``
+    (input metadata of the tiny module skorch builds before it has seen data),
     ``_meta_from_state_dict(state_dict)`` (restore the input metadata from
     saved parameters) and ``_mc_bytes_per_row(X)`` (activation memory of one
     forward row, for chunking).
     """
+
+    _parameter_constraints = {
+        "dropout": [Interval(numbers.Real, 0, 1, closed="left")],
+        "random_state": ["random_state"],
+        "lr": [Interval(numbers.Real, 0, None, closed="neither")],
+        "max_epochs": [Interval(numbers.Integral, 0, None, closed="left")],
+        "batch_size": [Interval(numbers.Integral, 1, None, closed="left"), Options(numbers.Integral, {-1})],
+        "classes": ["array-like", None],
+        "class_weight": [dict, StrOptions({"balanced"}), None],
+        "verbose": ["verbose"],
+        "device": [str, torch.device, None],
+        "warm_start": ["boolean"],
+    }
+    _input_meta_attrs = ()
 
     def __init__(
         self,
         module,
         *,
         dropout=0.2,
+        class_weight=None,
         random_state=None,
         criterion=torch.nn.CrossEntropyLoss,
         optimizer=torch.optim.Adam,
@@ -164,7 +119,11 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             **kwargs,
         )
         self.dropout = dropout
+        self.class_weight = class_weight
         self.random_state = random_state
+
+    def get_default_callbacks(self):
+        return [("training_data", _TrainingDataSetter())] + list(super().get_default_callbacks())
 
     # ------------------------------------------------------------------
     # device="auto": the parameter keeps what the user passed, skorch sees
@@ -191,23 +150,40 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             self.__dict__["device"] = raw
 
     def set_params(self, **kwargs):
+        if "dropout" in kwargs:
+            validate_parameter_constraints(
+                {"dropout": self._parameter_constraints["dropout"]},
+                {"dropout": kwargs["dropout"]},
+                caller_name=type(self).__name__,
+            )
         super().set_params(**kwargs)
         if "dropout" in kwargs and getattr(self, "initialized_", False) and hasattr(self, "module_"):
-            p = _check_dropout(kwargs["dropout"])
             for m in self.module_.modules():
                 if isinstance(m, MCDropout):
-                    m.p = p
+                    m.p = float(kwargs["dropout"])
         return self
 
     # ------------------------------------------------------------------
     # initialisation and seeding
     def initialize(self):
-        """Initialise module, criterion, optimizer and the random generators.
+        """Validate the parameters, seed the generators and initialise the net.
 
-        With an integer ``random_state`` the initial weights, the shuffling
-        of training batches and the dropout masks during training are
-        reproducible, and torch's global random generator is left untouched.
+        Before the net has seen data, the module is a placeholder of the right
+        kind; the first ``fit``/``partial_fit`` sizes it from the data (or
+        :meth:`load_params` from saved parameters). With an integer
+        ``random_state`` the initial weights, the shuffling of training
+        batches and the dropout masks during training are reproducible, and
+        torch's global random generator is left untouched.
+
+        Returns
+        -------
+        self
         """
+        validate_parameter_constraints(
+            self._parameter_constraints, self.get_params(deep=False), caller_name=type(self).__name__
+        )
+        for attr in self._input_meta_attrs + ("classes_inferred_", "class_weight_"):
+            self.__dict__.pop(attr, None)
         if self.random_state is None:
             self.init_seed_ = None
             self.shuffle_generator_ = None
@@ -222,17 +198,18 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             )
         return super().initialize()
 
+    def _has_input_meta(self):
+        return all(hasattr(self, a) for a in self._input_meta_attrs) and (
+            self.classes is not None or hasattr(self, "classes_inferred_")
+        )
+
     def initialize_module(self):
-        """Build the module from the fitted input shape and the parameters."""
-        if not self._has_input_meta():
-            raise ValueError(
-                f"{type(self).__name__} infers the size of its network from the data: call "
-                "fit(X, y) (or load_params on a fresh net), not initialize() on its own."
-            )
-        kwargs = self._module_defaults()
+        """Build the module from the fitted input metadata and the parameters."""
+        if self._has_input_meta():
+            kwargs = self._module_defaults()
+        else:  # skorch initialises before fit sees data: a tiny stand-in, rebuilt on train begin
+            kwargs = self._placeholder_meta()
         kwargs.update(self.get_params_for("module"))
-        if "dropout" in kwargs:
-            kwargs["dropout"] = _check_dropout(kwargs["dropout"])
         module_cls = self.module if isinstance(self.module, type) else type(self.module)
         seed = getattr(self, "init_seed_", None)
         if seed is None:
@@ -241,17 +218,63 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             with _GLOBAL_RNG_LOCK, torch.random.fork_rng(devices=[]):
                 torch.manual_seed(seed)
                 module = module_cls(**kwargs)
-        self.module_ = module
+        self.module_ = module.to(self.device)
         return self
 
-    def _get_predict_nonlinearity(self):
-        # skorch's "auto" gives torch.softmax for CrossEntropyLoss; ours gives the same
-        # values (float32 at least) faster for few classes.
-        if isinstance(self.predict_nonlinearity, str) and self.predict_nonlinearity == "auto":
-            self.check_is_fitted()
-            if isinstance(self.criterion_, torch.nn.CrossEntropyLoss):
-                return softmax
-        return super()._get_predict_nonlinearity()
+    def initialize_criterion(self):
+        """Build the criterion; ``class_weight`` becomes its ``weight``."""
+        kwargs = self.get_params_for("criterion")
+        weight = getattr(self, "class_weight_", None)
+        if weight is not None and "weight" not in kwargs:
+            kwargs["weight"] = torch.as_tensor(weight, dtype=torch.float32)
+        self.criterion_ = self.initialized_instance(self.criterion, kwargs)
+        if isinstance(self.criterion_, torch.nn.Module):
+            self.criterion_ = self.criterion_.to(self.device)
+        return self
+
+    def _rebuild(self):
+        # module, criterion and optimizer for the data just seen (skorch's public hooks)
+        self.initialize_module()
+        self.initialize_criterion()
+        self.initialize_optimizer()
+
+    def _prepare_training(self, X, y):
+        """Validate training data; on a cold start size the net from it."""
+        cold = not self._has_input_meta()
+        if y is None:
+            raise ValueError(f"{type(self).__name__} needs labels y for training, got y=None.")
+        X = self._check_X(X, reset=cold)
+        y = self._check_y(y)
+        check_consistent_length(X, y)
+        if not cold:
+            self._encode(y)  # unknown labels fail here, before any training
+            return
+        classes = getattr(self, "_partial_fit_classes", None)
+        if self.classes is not None:
+            cls = np.asarray(self.classes)
+        elif classes is not None:
+            cls = np.asarray(classes)
+        else:
+            cls = np.unique(y)
+        if cls.ndim != 1 or len(np.unique(cls)) != len(cls):
+            raise ValueError(f"classes must be a 1-D list of distinct labels, got {cls!r}.")
+        if len(cls) < 2:
+            raise ValueError(
+                f"{type(self).__name__} needs at least 2 classes, got {len(cls)} "
+                f"({cls.tolist()}); pass classes=[...] to declare all labels."
+            )
+        self.classes_inferred_ = cls
+        self._encode(y)
+        self.class_weight_ = (
+            None
+            if self.class_weight is None
+            else compute_class_weight(self.class_weight, classes=cls, y=y).astype(np.float32)
+        )
+        self._fit_input_stats(X)
+        self._rebuild()
+
+    def _fit_input_stats(self, X):
+        """Statistics of the cold-start training input the module keeps (none here)."""
 
     def get_iterator(self, dataset, training=False):
         """Like skorch's, but seeded shuffling when ``random_state`` is set."""
@@ -276,20 +299,29 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             gen = self.dropout_generator_ = torch.Generator(device=torch.device(self.device)).manual_seed(
                 int(gen.initial_seed())
             )
-        with _dropout_generator(self.module_, gen):
+        with dropout_generator(self.module_, gen):
             return super().train_step(batch, **fit_params)
 
     # ------------------------------------------------------------------
     # data validation and labels
     def check_data(self, X, y=None):
-        # Labels are validated and encoded in fit/partial_fit; skorch's own
-        # check would overwrite classes_ with the encoded labels.
+        # Labels are validated and classes inferred by _TrainingDataSetter; skorch's
+        # own check would overwrite classes_ with the encoded labels.
         pass
 
-    def _has_input_meta(self):
-        raise NotImplementedError
+    def get_dataset(self, X, y=None):
+        """skorch's dataset of validated ``X`` and labels encoded to ``0..n_classes-1``."""
+        if isinstance(X, torch.utils.data.Dataset):
+            return super().get_dataset(X, y)
+        X = self._check_X(X, reset=False)
+        if y is not None:
+            y = self._encode(self._check_y(y))
+        return Dataset(X, y)
 
     def _check_X(self, X, reset):
+        raise NotImplementedError
+
+    def _placeholder_meta(self):
         raise NotImplementedError
 
     def _module_defaults(self):
@@ -301,35 +333,17 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
     def _mc_bytes_per_row(self, X):
         raise NotImplementedError
 
-    def _validate_training_data(self, X, y, *, reset, classes=None):
-        if y is None:
-            raise ValueError(f"{type(self).__name__} needs labels y for training, got y=None.")
-        X = self._check_X(X, reset=reset)
+    @staticmethod
+    def _check_y(y):
         y = np.asarray(y)
         if y.ndim == 2 and y.shape[1] == 1:
             y = y.ravel()
         if y.ndim != 1:
             raise ValueError(f"y must be a 1-D array of labels, got shape {y.shape}.")
         y = column_or_1d(y)
-        check_consistent_length(X, y)
         if y.dtype.kind == "f" and not np.isfinite(y).all():
             raise ValueError("y contains NaN or infinite labels.")
-        if reset:
-            if self.classes is not None:
-                cls = np.asarray(self.classes)
-            elif classes is not None:
-                cls = np.asarray(classes)
-            else:
-                cls = np.unique(y)
-            if cls.ndim != 1 or len(np.unique(cls)) != len(cls):
-                raise ValueError(f"classes must be a 1-D list of distinct labels, got {cls!r}.")
-            if len(cls) < 2:
-                raise ValueError(
-                    f"{type(self).__name__} needs at least 2 classes, got {len(cls)} "
-                    f"({cls.tolist()}); pass classes=[...] to declare all labels."
-                )
-            self.classes_inferred_ = cls
-        return X, self._encode(y)
+        return y
 
     def _encode(self, y):
         cls = np.asarray(self.classes_)
@@ -353,31 +367,6 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
 
     # ------------------------------------------------------------------
     # training
-    def fit(self, X, y, **fit_params):
-        """Initialise (unless ``warm_start``) and train for ``max_epochs`` epochs.
-
-        Parameters
-        ----------
-        X : array-like
-            Training input (see the class docstring for its shape).
-        y : array-like of shape (n_samples,)
-            Labels of any sortable type (ints, strings).
-        **fit_params : dict
-            Passed on to skorch's fit loop and the module's ``forward``. To
-            train for a given number of epochs without re-initialising, use
-            :meth:`partial_fit` with ``epochs=``.
-
-        Returns
-        -------
-        self
-        """
-        reset = not (self.warm_start and self.initialized_)
-        X, y = self._validate_training_data(X, y, reset=reset)
-        if reset:
-            self.initialize()
-        NeuralNet.partial_fit(self, X, y, _routing_method="fit", **fit_params)
-        return self
-
     def partial_fit(self, X, y, classes=None, **fit_params):
         """Continue training without re-initialising (warm start).
 
@@ -393,7 +382,8 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             Labels; all must be among ``classes_``.
         classes : array-like or None, default=None
             All labels, needed on the first call when ``y`` does not contain
-            every class and the ``classes`` parameter is not set.
+            every class and the ``classes`` parameter is not set (as in
+            scikit-learn's ``partial_fit``).
         **fit_params : dict
             ``epochs=e`` trains for ``e`` epochs (default ``max_epochs``).
 
@@ -401,11 +391,12 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
         -------
         self
         """
-        reset = not self.initialized_
-        X, y = self._validate_training_data(X, y, reset=reset, classes=classes)
-        if reset:
-            self.initialize()
-        return super().partial_fit(X, y, **fit_params)
+        # skorch's partial_fit ignores classes; _TrainingDataSetter reads it from here
+        self._partial_fit_classes = classes
+        try:
+            return super().partial_fit(X, y, classes=classes, **fit_params)
+        finally:
+            del self._partial_fit_classes
 
     @property
     def final_train_loss_(self):
@@ -419,6 +410,24 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
 
     # ------------------------------------------------------------------
     # prediction
+    def check_is_fitted(self, attributes=None, *args, **kwargs):
+        """Raise :class:`sklearn.exceptions.NotFittedError` unless fitted (or loaded)."""
+        if not getattr(self, "initialized_", False) or not self._has_input_meta():
+            raise NotFittedError(
+                f"This {type(self).__name__} instance is not fitted yet. Call 'fit' with "
+                "appropriate arguments (or 'load_params' with saved parameters) before using it."
+            )
+        return super().check_is_fitted(attributes, *args, **kwargs)
+
+    def _get_predict_nonlinearity(self):
+        # skorch's "auto" gives torch.softmax for CrossEntropyLoss; ours gives the same
+        # values (float32 at least) faster for few classes.
+        if isinstance(self.predict_nonlinearity, str) and self.predict_nonlinearity == "auto":
+            self.check_is_fitted()
+            if isinstance(self.criterion_, torch.nn.CrossEntropyLoss):
+                return softmax
+        return super()._get_predict_nonlinearity()
+
     def _check_predict_X(self, X):
         self.check_is_fitted()
         return self._check_X(X, reset=False)
@@ -487,58 +496,21 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
         """
         X = self._check_predict_X(X)
         n_samples = check_positive_int(n_samples, "n_samples")
-        n = len(X)
         device = torch.device(self.device)
         if batch_size is None:
             budget = MC_MEMORY_BUDGET.get(device.type, MC_MEMORY_BUDGET["cuda"])
             rows = max(1, int(budget // max(1, self._mc_bytes_per_row(X))))
         else:
             rows = check_positive_int(batch_size, "batch_size")
-        b = max(1, min(n, rows // n_samples))  # inputs per chunk
-        r = max(1, min(n_samples, rows // b))  # replicas per chunk
         seed = int(check_random_state(random_state).randint(0, 2**31 - 1))
-        gen = torch.Generator(device=device).manual_seed(seed)
-        nonlin = self._get_predict_nonlinearity()
-        module = self.module_
-        n_classes = len(self.classes_)
-        out = np.empty((n_samples, n, n_classes), dtype=np.float32)
-        plain_dropout = any(
-            isinstance(m, torch.nn.modules.dropout._DropoutNd) for m in module.modules()
+        out = sample_proba(
+            self.module_, X, n_samples=n_samples, seed=seed, rows_per_call=rows, device=device,
+            nonlinearity=self._get_predict_nonlinearity(), n_classes=len(self.classes_),
         )
-        stochastic = any(
-            isinstance(m, (MCDropout, torch.nn.modules.dropout._DropoutNd)) and m.p > 0
-            for m in module.modules()
-        )
-        if not stochastic:
-            # No active dropout: every pass equals the deterministic one; compute it once
-            # (this also makes the samples bit-identical, so their variance is exactly 0).
-            out[:] = self.predict_proba(X)[np.newaxis]
-            return out
-        flags = [(m, m.training) for m in module.modules()]
-        try:
-            module.eval()
-            for m in module.modules():
-                if isinstance(m, (MCDropout, torch.nn.modules.dropout._DropoutNd)):
-                    m.training = True
-            fork = (
-                torch.random.fork_rng(devices=[device] if device.type == "cuda" else [])
-                if plain_dropout
-                else contextlib.nullcontext()
-            )
-            lock = _GLOBAL_RNG_LOCK if plain_dropout else contextlib.nullcontext()
-            with lock, fork, _dropout_generator(module, gen), torch.inference_mode():
-                if plain_dropout:
-                    torch.manual_seed(seed)
-                for i0 in range(0, n, b):
-                    xb = torch.as_tensor(X[i0 : i0 + b]).to(device)
-                    for j0 in range(0, n_samples, r):
-                        rr = min(r, n_samples - j0)
-                        logits = module(xb, n_replicas=rr)
-                        proba = nonlin(logits).reshape(rr, len(xb), n_classes)
-                        out[j0 : j0 + rr, i0 : i0 + len(xb)] = proba.cpu().numpy()
-        finally:
-            for m, flag in flags:
-                m.training = flag
+        if out is None:
+            # No active dropout: every pass equals the deterministic one (bit-identical,
+            # so their variance is exactly 0).
+            out = np.repeat(self.predict_proba(X)[np.newaxis], n_samples, axis=0)
         return out
 
     # ------------------------------------------------------------------
@@ -546,17 +518,26 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
     def load_params(self, f_params=None, *args, **kwargs):
         """Load saved parameters (``torch.load(..., weights_only=True)``).
 
-        On a fresh, unfitted net the input size is read from the saved
-        parameters; pass ``classes=[...]`` to the constructor to get the
-        original labels back (otherwise ``classes_`` is ``0..n_classes-1``).
-        See :meth:`skorch.NeuralNet.load_params` for the other arguments.
+        Works on a fresh net (after ``initialize()`` or not): the input
+        metadata (input size, and for the ConvLSTM the input statistics) is
+        read from the saved parameters; pass ``classes=[...]`` to the
+        constructor to get the original labels back (otherwise ``classes_``
+        is ``0..n_classes-1``). See :meth:`skorch.NeuralNet.load_params` for
+        the other arguments.
+
+        Returns
+        -------
+        self
         """
         raw_device = self.__dict__.get("device")
-        if not self.initialized_ and f_params is not None and not kwargs.get("use_safetensors"):
+        fresh = not (getattr(self, "initialized_", False) and self._has_input_meta())
+        if fresh and f_params is not None and not kwargs.get("use_safetensors"):
             pos = f_params.tell() if hasattr(f_params, "tell") else None
             state = torch.load(f_params, map_location="cpu", weights_only=True)
             if pos is not None:
                 f_params.seek(pos)
+            if not getattr(self, "initialized_", False):
+                self.initialize()
             n_classes = self._meta_from_state_dict(state)
             if self.classes is None:
                 self.classes_inferred_ = np.arange(n_classes)
@@ -565,25 +546,8 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
                     f"The saved parameters have {n_classes} classes but classes has "
                     f"{len(self.classes)} labels."
                 )
-            self.initialize()
-        result = super().load_params(f_params, *args, **kwargs)
+            self._rebuild()
+        super().load_params(f_params, *args, **kwargs)
         if raw_device == "auto":
             self.__dict__["device"] = raw_device
-        return result
-
-
-@contextlib.contextmanager
-def _dropout_generator(module, generator):
-    """Temporarily make every :class:`MCDropout` of ``module`` use ``generator``."""
-    if generator is None:
-        yield
-        return
-    layers = [m for m in module.modules() if isinstance(m, MCDropout)]
-    old = [m.generator for m in layers]
-    for m in layers:
-        m.generator = generator
-    try:
-        yield
-    finally:
-        for m, g in zip(layers, old):
-            m.generator = g
+        return self

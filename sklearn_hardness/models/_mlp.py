@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 import torch
+from sklearn.utils._param_validation import Interval
 from sklearn.utils.validation import check_array
 
-from ..utils._validation import check_positive_int
-from ._mc_dropout import MCDropout, MCDropoutClassifierBase
+from ._mc_dropout import MCDropoutClassifierBase
+from ._mc_sampling import MCDropout
 
 __all__ = ["MLPHead", "OFNNClassifier", "DINOv2NNClassifier"]
 
@@ -52,12 +55,19 @@ class MLPHead(torch.nn.Module):
 
 
 class _MLPClassifier(MCDropoutClassifierBase):
+    _parameter_constraints = {
+        **MCDropoutClassifierBase._parameter_constraints,
+        "hidden_units": [Interval(numbers.Integral, 1, None, closed="left")],
+    }
+    _input_meta_attrs = ("n_features_in_",)
+
     def __init__(
         self,
         module=MLPHead,
         *,
         hidden_units=128,
         dropout=0.2,
+        class_weight=None,
         random_state=None,
         criterion=torch.nn.CrossEntropyLoss,
         optimizer=torch.optim.Adam,
@@ -73,6 +83,7 @@ class _MLPClassifier(MCDropoutClassifierBase):
         super().__init__(
             module,
             dropout=dropout,
+            class_weight=class_weight,
             random_state=random_state,
             criterion=criterion,
             optimizer=optimizer,
@@ -105,16 +116,14 @@ class _MLPClassifier(MCDropoutClassifierBase):
             )
         return X
 
-    def _has_input_meta(self):
-        return hasattr(self, "n_features_in_") and (
-            self.classes is not None or hasattr(self, "classes_inferred_")
-        )
+    def _placeholder_meta(self):
+        return {"input_dim": 1, "n_classes": 2, "hidden_units": 1, "dropout": self.dropout}
 
     def _module_defaults(self):
         return {
             "input_dim": self.n_features_in_,
             "n_classes": len(self.classes_),
-            "hidden_units": check_positive_int(self.hidden_units, "hidden_units"),
+            "hidden_units": int(self.hidden_units),
             "dropout": self.dropout,
         }
 
