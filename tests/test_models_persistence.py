@@ -75,3 +75,12 @@ def test_fitted_pipeline_pickles_with_identical_predictions():
         restored.predict_proba_samples(videos[:4], n_samples=6, random_state=3),
         pipe.predict_proba_samples(videos[:4], n_samples=6, random_state=3),
     )
+
+
+def test_user_guide_code_runs():
+    import doctest
+    from pathlib import Path
+
+    page = Path(__file__).resolve().parents[1] / "docs" / "user_guide" / "persistence.rst"
+    result = doctest.testfile(str(page), module_relative=False, optionflags=doctest.ELLIPSIS)
+    assert result.attempted > 10 and result.failed == 0
