@@ -17,6 +17,16 @@ only), and with dropout 0 the largest difference to ``predict_proba``
 
 Targets (issue 4): ConvLSTM batched >= 3x faster than the loop; MLP batched
 at most 2x one deterministic predict_proba.
+
+``--pipelines`` times every ready-made pipeline at its defaults instead
+(``make_convlstm_pipeline``, ``make_ofnn_pipeline``, ``make_dinov2nn_pipeline``
+with a tiny randomly initialised DINOv2 backbone, as no weights can be
+downloaded here) on simulated ``silicone5`` presses: one ``predict_proba`` and
+``predict_proba_samples(n_samples=50)`` on the same ``--n-test`` presses, end to
+end (videos in) and for the net alone (its prepared input), with the ratios.
+Target (issue 9): 50 passes <= 5x one predict_proba.
+
+    python benchmarks/bench_mc_dropout.py --pipelines [--n-test 10]
 """
 
 import argparse
@@ -102,6 +112,45 @@ def report(title, net, X, n_samples, repeat, batch_size):
     return t_b, rows
 
 
+def tiny_dinov2():
+    import transformers
+
+    torch.manual_seed(0)
+    cfg = transformers.Dinov2Config(hidden_size=32, num_hidden_layers=1, num_attention_heads=2,
+                                    intermediate_size=64, image_size=28, patch_size=14)
+    return transformers.Dinov2Model(cfg).eval()
+
+
+def bench_pipelines(n_test, repeat):
+    """One predict_proba against 50 MC passes for each ready-made pipeline at its defaults."""
+    from sklearn_hardness.datasets import make_presses
+    from sklearn_hardness.models import make_convlstm_pipeline, make_dinov2nn_pipeline, make_ofnn_pipeline
+
+    data = make_presses("silicone5", n_per_class=5 + -(-n_test // 5), random_state=0)
+    y = np.asarray(data.target)
+    train = np.concatenate([np.flatnonzero(y == c)[:5] for c in np.unique(y)])
+    test = np.setdiff1d(np.arange(len(y)), train)[:n_test]
+    videos = list(data.videos)
+    train_v, test_v = [videos[i] for i in train], [videos[i] for i in test]
+    pipes = {
+        "make_convlstm_pipeline": make_convlstm_pipeline(max_epochs=2, random_state=0),
+        "make_ofnn_pipeline": make_ofnn_pipeline(max_epochs=2, random_state=0),
+        "make_dinov2nn_pipeline (tiny backbone)": make_dinov2nn_pipeline(model=tiny_dinov2(), max_epochs=2,
+                                                                         random_state=0),
+    }
+    print(f"\nready-made pipelines at their defaults, {len(test)} test presses, 50 MC passes "
+          f"(best of {repeat})")
+    print(f"{'pipeline':<40}{'part':<10}{'predict_proba ms':>17}{'50 passes ms':>14}{'ratio':>7}")
+    for name, pipe in pipes.items():
+        pipe.fit(train_v, y[train])
+        Xt = pipe[:-1].transform(test_v)
+        net = pipe[-1]
+        for part, model, X in (("end2end", pipe, test_v), ("net", net, Xt)):
+            t_pp, _, _ = timed(lambda: model.predict_proba(X), repeat)
+            t_mc, _, _ = timed(lambda: model.predict_proba_samples(X, n_samples=50, random_state=0), repeat)
+            print(f"{name:<40}{part:<10}{1e3 * t_pp:>17.1f}{1e3 * t_mc:>14.1f}{t_mc / t_pp:>7.2f}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n-samples", type=int, default=50)
@@ -114,8 +163,12 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--skip-convlstm", action="store_true")
+    parser.add_argument("--pipelines", action="store_true", help="time the ready-made pipelines instead")
     args = parser.parse_args()
     torch.set_num_threads(args.threads)
+    if args.pipelines:
+        bench_pipelines(args.n_test, args.repeat)
+        return
     H, W = (int(s) for s in args.size.split("x"))
     print(f"torch {torch.__version__}, {args.threads} thread(s), "
           f"LD_PRELOAD={os.environ.get('LD_PRELOAD', '') or '-'}")

@@ -29,7 +29,7 @@ def _brightness_task(n=20, seed=0, shape=(3, 8, 10, 3)):
 def fitted():
     torch.set_num_threads(1)
     X, y = _brightness_task()
-    return X, y, ConvLSTMClassifier(max_epochs=3, random_state=0).fit(X, y)
+    return X, y, ConvLSTMClassifier(max_epochs=3, dropout_placement="layers", random_state=0).fit(X, y)
 
 
 def test_learns_trivial_video_task():
@@ -102,6 +102,48 @@ def test_replicated_forward_runs_first_layer_once(fitted):
     # the first layer (before any dropout) sees 2 inputs; the second one 5 replicas of each
     assert seen == {"l0_in": 2 * 3, "l0_h": 2, "l1_in": 10 * 3, "l1_h": 10}
     torch.testing.assert_close(out.reshape(5, 2, 2)[4], plain, atol=1e-5, rtol=1e-5)
+
+
+def test_head_placement_replicates_only_the_pooled_features():
+    X, y = _brightness_task(n=6)
+    net = ConvLSTMClassifier(max_epochs=1, random_state=0).fit(X, y)
+    m = net.module_.eval()
+    assert net.dropout_placement == "head" and len(m.dropouts) == 1
+    seen = []
+    hook = m.layers[-1].hidden_conv.register_forward_hook(lambda mod, inp, out: seen.append(inp[0].shape[0]))
+    try:
+        with torch.no_grad():
+            out = m(torch.as_tensor(X[:2]), n_replicas=5)
+            plain = m(torch.as_tensor(X[:2]))
+    finally:
+        hook.remove()
+    assert set(seen) == {2}  # the whole recurrent stack runs once per input
+    torch.testing.assert_close(out.reshape(5, 2, 2)[3], plain, atol=1e-5, rtol=1e-5)
+
+
+def _mc_share_task(n, seed):
+    rng = np.random.default_rng(seed)
+    y = np.arange(n) % 3
+    X = rng.normal(size=(n, 3, 6, 8, 1)).astype(np.float32)
+    X += 0.5 * y[:, None, None, None, None] * np.linspace(0.3, 1, 3)[None, :, None, None, None]
+    return X, y
+
+
+def test_mc_part_of_eq2_variance_is_not_negligible():
+    """On a trained net the MC passes carry a real share of Eq. 2 (the paper's placement: ~3%)."""
+    from sklearn_hardness.active import variance_decomposition
+
+    X, y = _mc_share_task(24, 0)
+    X_test, y_test = _mc_share_task(12, 1)
+    shares = {}
+    for placement in ("head", "layers"):
+        net = ConvLSTMClassifier(dropout_placement=placement, filters=(4, 8), lr=5e-3, max_epochs=20,
+                                 random_state=0).fit(X, y)
+        assert net.final_train_loss_ < 0.7  # trained, not near uniform
+        dec = variance_decomposition(net.predict_proba_samples(X_test[y_test == 0], n_samples=50, random_state=0))
+        shares[placement] = dec["mc"].sum() / dec["total"].sum()
+    assert shares["head"] > 0.15, shares
+    assert shares["head"] > 3 * shares["layers"], shares
 
 
 def test_any_frame_size_and_grey(fitted):

@@ -109,7 +109,7 @@ class ConvLSTMNet(torch.nn.Module):
         Convolution size of every layer.
     dropout : float, default=0.2
         Dropout probability.
-    dropout_placement : {"layers", "channels", "head"}, default="layers"
+    dropout_placement : {"layers", "channels", "head"}, default="head"
         ``"layers"``: element-wise dropout after each ConvLSTM layer (the
         paper); ``"channels"``: the same places, one mask per channel map
         (shared over time and space, so pooling keeps it); ``"head"``: one
@@ -125,7 +125,7 @@ class ConvLSTMNet(torch.nn.Module):
 
     def __init__(
         self, in_channels, n_classes, filters=(4, 8, 14, 16), kernel_size=3, dropout=0.2, input_shape=None,
-        dropout_placement="layers", input_mean=None, input_scale=None,
+        dropout_placement="head", input_mean=None, input_scale=None,
     ):
         super().__init__()
         if dropout_placement not in DROPOUT_PLACEMENTS:
@@ -177,26 +177,45 @@ class ConvLSTMNet(torch.nn.Module):
 class ConvLSTMClassifier(MCDropoutClassifierBase):
     """ConvLSTM classifier on selected frames with MC dropout (the paper's ConvLSTM).
 
-    Four ConvLSTM layers with 4, 8, 14 and 16 filters (3x3), dropout after
-    each, then global average pooling of the last hidden state and a linear
-    layer, trained end to end on (n, k, H, W, C) float32 frames, e.g. the
-    output of :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`.
-    Small frames are enough and much faster: see the ``output_size`` of the
-    frame selector and ``benchmarks/bench_convlstm.py``.
+    Four ConvLSTM layers with 4, 8, 14 and 16 filters (3x3), global average
+    pooling of the last hidden state and a linear layer, trained end to end on
+    (n, k, H, W, C) float32 frames, e.g. the output of
+    :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`. The input
+    is standardised inside the net with statistics of the first training data
+    (``standardize``). Small frames are enough and much faster: see the
+    ``output_size`` of the frame selector and ``benchmarks/bench_convlstm.py``.
 
     Parameters
     ----------
     module : torch.nn.Module class, default=ConvLSTMNet
         Network; built at fit with ``in_channels``, ``n_classes``,
-        ``filters``, ``kernel_size``, ``dropout`` and ``input_shape``. Its
-        ``forward`` takes ``(X, n_replicas=1)``.
+        ``filters``, ``kernel_size``, ``dropout``, ``dropout_placement``,
+        ``input_shape``, ``input_mean`` and ``input_scale``. Its ``forward``
+        takes ``(X, n_replicas=1)``.
     filters : tuple of int, default=(4, 8, 14, 16)
         Hidden channels of the ConvLSTM layers.
     kernel_size : int, default=3
         Convolution size.
     dropout : float, default=0.2
-        Dropout probability after each ConvLSTM layer. A plain parameter, so
+        Dropout probability. A plain parameter, so
         ``GridSearchCV(pipe, {"clf__dropout": [...]})`` works.
+    dropout_placement : {"head", "layers", "channels"}, default="head"
+        Where dropout acts. ``"head"``: on the pooled features before the
+        linear head. ``"layers"``: element-wise after each ConvLSTM layer, as
+        in the paper; the global average pool after the last layer averages
+        these masks away, so the MC passes barely differ. ``"channels"``: after
+        each layer, one mask per channel map (shared over time and space),
+        which pooling keeps. See Notes for the measurement behind the default.
+    standardize : bool, default=True
+        Standardise the input per channel with the mean and standard
+        deviation of the training frames of the cold-start ``fit`` (or first
+        ``partial_fit``). Warm starts and ``partial_fit`` keep them; they are
+        buffers of the module, so ``save_params``/``load_params`` and pickling
+        carry them.
+    class_weight : dict, "balanced" or None, default=None
+        Weights of the classes in the loss, as in scikit-learn
+        (:func:`sklearn.utils.class_weight.compute_class_weight` on the
+        cold-start training labels); a dict maps labels to weights.
     random_state : int, RandomState instance or None, default=None
         Seeds the initial weights, the shuffling and the training dropout
         masks (without touching torch's global generator).
@@ -214,7 +233,7 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
     verbose : int, default=0
     device : {"cpu", "cuda", "auto"} or str, default="cpu"
     **kwargs
-        Other skorch parameters.
+        Other skorch parameters (``callbacks``, ``optimizer__*``...).
 
     Attributes
     ----------
@@ -223,6 +242,10 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         Frames per sample seen during fit.
     frame_shape_ : tuple of int
         (H, W, C) seen during fit.
+    input_mean_, input_scale_ : ndarray of shape (C,)
+        Standardisation of the input (0 and 1 with ``standardize=False``).
+    class_weight_ : ndarray of shape (n_classes,) or None
+        Weights of the classes in the loss.
     module_ : ConvLSTMNet
     history_ : skorch.History
     final_train_loss_ : float
@@ -232,17 +255,31 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
 
     Notes
     -----
-    Scale the input. Differences to the first frame (what
-    :class:`~sklearn_hardness.preprocessing.ContactFrameSelector` returns by
-    default) have a standard deviation of a few hundredths; on them the net
-    barely leaves the uniform prediction (on simulated ``silicone5`` with 5
-    presses per object and 100 epochs the training loss stayed at ln 5).
-    Put :class:`FrameScaler` before it, as :func:`make_convlstm_pipeline`
-    does.
+    Dropout placement, measured with ``python benchmarks/bench_mc_share.py
+    --seeds 3`` (simulated ``silicone5``, 5 training presses per object,
+    18x24 grey difference frames, 100 epochs, dropout 0.2; 50 MC passes on
+    held-out presses of one object; share of the paper's Eq. 2 variance that
+    comes from the MC passes, :func:`sklearn_hardness.active.variance_decomposition`;
+    mean over 3 seeds, on a loaded 2-core machine):
+
+    ==========  ========  =========================  ====================
+    placement   MC share  held-out accuracy (all)    50 passes / predict
+    ==========  ========  =========================  ====================
+    layers      0.032     0.520                      22-40x
+    channels    0.247     0.453                      34-42x
+    head        0.203     0.507                      0.7-0.9x
+    ==========  ========  =========================  ====================
+
+    ``"head"`` is the default: six times the MC share of the paper's
+    placement at its accuracy, and its MC passes cost no more than one
+    prediction (only the pooled features are replicated). No placement
+    reaches half of Eq. 2 at dropout 0.2: most of it is disagreement between
+    the test presses.
 
     Input size trades accuracy against time: on simulated ``silicone5`` (5
     training presses per object, 86 test presses per object, 100 epochs, 10
-    seeds; ``benchmarks/bench_model_baselines.py``) 18x24 grey frames gave
+    seeds; ``benchmarks/bench_model_baselines.py``, with the paper's dropout
+    placement and :class:`FrameScaler`) 18x24 grey frames gave
     55.1% +- 4.7% test accuracy in 166 s for all seeds and 36x48 gave
     44.8% +- 2.7% in 491 s: larger frames cost time and did not help with 25
     training presses, so the pipelines default to 18x24.
@@ -275,7 +312,7 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         filters=(4, 8, 14, 16),
         kernel_size=3,
         dropout=0.2,
-        dropout_placement="layers",
+        dropout_placement="head",
         standardize=True,
         class_weight=None,
         random_state=None,
