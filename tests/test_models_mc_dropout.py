@@ -261,3 +261,21 @@ def test_warm_start_fit_continues(case):
     assert len(net.history) == 2 * kw["max_epochs"]
     with pytest.raises(ValueError):
         net.fit(X[:, :2] if kind == "frames" else X[:, :4], y)
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_not_fitted_error_before_fit(name):
+    cls, kind, kw = CASES[name]
+    X, _ = _data(kind, n=4)
+    net = cls(**kw)
+    for method in (net.predict, net.predict_proba, lambda X: net.predict_proba_samples(X, n_samples=2)):
+        with pytest.raises(NotFittedError, match="not fitted"):
+            method(X)
+
+
+def test_predict_proba_samples_parameters_are_validated(case):
+    cls, kind, kw, X, y, net = case
+    with pytest.raises(InvalidParameterError, match="n_samples"):
+        net.predict_proba_samples(X, n_samples=0)
+    with pytest.raises(InvalidParameterError, match="batch_size"):
+        net.predict_proba_samples(X, n_samples=2, batch_size=0.5)

@@ -33,7 +33,6 @@ from sklearn.utils._param_validation import Interval, Options, StrOptions, valid
 from sklearn.utils.class_weight import compute_class_weight
 from sklearn.utils.validation import check_consistent_length, column_or_1d
 
-from ..utils._validation import check_positive_int
 from ._mc_sampling import _GLOBAL_RNG_LOCK, MC_MEMORY_BUDGET, MCDropout, dropout_generator, sample_proba, softmax
 
 __all__ = ["MCDropout", "MCDropoutClassifierBase"]
@@ -85,6 +84,11 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
         "warm_start": ["boolean"],
     }
     _input_meta_attrs = ()
+    _predict_proba_samples_constraints = {
+        "n_samples": [Interval(numbers.Integral, 1, None, closed="left")],
+        "random_state": ["random_state"],
+        "batch_size": [Interval(numbers.Integral, 1, None, closed="left"), None],
+    }
 
     def __init__(
         self,
@@ -461,7 +465,8 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
         y_pred : ndarray of shape (n_samples,)
             Labels from ``classes_``.
         """
-        return np.asarray(self.classes_)[self.predict_proba(X).argmax(axis=1)]
+        proba = self.predict_proba(X)  # first: it raises NotFittedError before classes_ is read
+        return np.asarray(self.classes_)[proba.argmax(axis=1)]
 
     def predict_proba_samples(self, X, n_samples=50, random_state=None, batch_size=None):
         """Monte-Carlo-dropout class probabilities.
@@ -494,14 +499,18 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
         proba : ndarray of shape (n_samples, n_X, n_classes), float32
             Softmax probabilities of every pass.
         """
+        validate_parameter_constraints(
+            self._predict_proba_samples_constraints,
+            {"n_samples": n_samples, "random_state": random_state, "batch_size": batch_size},
+            caller_name=f"{type(self).__name__}.predict_proba_samples",
+        )
         X = self._check_predict_X(X)
-        n_samples = check_positive_int(n_samples, "n_samples")
         device = torch.device(self.device)
         if batch_size is None:
             budget = MC_MEMORY_BUDGET.get(device.type, MC_MEMORY_BUDGET["cuda"])
             rows = max(1, int(budget // max(1, self._mc_bytes_per_row(X))))
         else:
-            rows = check_positive_int(batch_size, "batch_size")
+            rows = int(batch_size)
         seed = int(check_random_state(random_state).randint(0, 2**31 - 1))
         out = sample_proba(
             self.module_, X, n_samples=n_samples, seed=seed, rows_per_call=rows, device=device,

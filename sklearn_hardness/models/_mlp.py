@@ -136,7 +136,16 @@ class _MLPClassifier(MCDropoutClassifierBase):
         return 4 * (3 * int(self.hidden_units) + 2 * len(self.classes_))
 
 
-_MLP_PARAMS_DOC = """
+class OFNNClassifier(_MLPClassifier):
+    """Optical-flow features + MLP head with MC dropout (the paper's OFNN).
+
+    Input: 2-D features, e.g. the output of
+    :class:`sklearn_hardness.features.OpticalFlowFeatures` (flattened
+    Lucas-Kanade displacements). Standardising them (``StandardScaler``)
+    before the net helps. The head is Linear(d, 128) -> ReLU -> dropout ->
+    Linear(128, n_classes); :meth:`predict_proba_samples` gives MC-dropout
+    samples for uncertainty.
+
     Parameters
     ----------
     module : torch.nn.Module class, default=MLPHead
@@ -149,6 +158,10 @@ _MLP_PARAMS_DOC = """
         Dropout probability after the hidden layer (0.2 in the paper). A plain
         parameter, so ``GridSearchCV(pipe, {"clf__dropout": [...]})`` works;
         setting it on a fitted net changes the live dropout layers.
+    class_weight : dict, "balanced" or None, default=None
+        Weights of the classes in the loss, as in scikit-learn
+        (:func:`sklearn.utils.class_weight.compute_class_weight` on the
+        cold-start training labels); a dict maps labels to weights.
     random_state : int, RandomState instance or None, default=None
         Seeds the initial weights, the shuffling and the training dropout
         masks (without touching torch's global generator). ``None`` uses
@@ -183,25 +196,12 @@ _MLP_PARAMS_DOC = """
         The trained network.
     history_ : skorch.History
         Per-epoch training loss (``train_loss``).
+    class_weight_ : ndarray of shape (n_classes,) or None
+        Weights of the classes in the loss.
     final_train_loss_ : float
         Training loss of the last epoch (see
         :func:`sklearn_hardness.models.is_converged`).
-"""
 
-
-class OFNNClassifier(_MLPClassifier):
-    __doc__ = (
-        """Optical-flow features + MLP head with MC dropout (the paper's OFNN).
-
-    Input: 2-D features, e.g. the output of
-    :class:`sklearn_hardness.features.OpticalFlowFeatures` (flattened
-    Lucas-Kanade displacements). Standardising them (``StandardScaler``)
-    before the net helps. The head is Linear(d, 128) -> ReLU -> dropout ->
-    Linear(128, n_classes); :meth:`predict_proba_samples` gives MC-dropout
-    samples for uncertainty.
-"""
-        + _MLP_PARAMS_DOC
-        + """
     Examples
     --------
     >>> import numpy as np
@@ -213,22 +213,74 @@ class OFNNClassifier(_MLPClassifier):
     >>> clf = OFNNClassifier(max_epochs=30, random_state=0).fit(X, y)
     >>> clf.predict_proba_samples(X[:4], n_samples=10, random_state=0).shape
     (10, 4, 3)
-"""
-    )
+    """
 
 
 class DINOv2NNClassifier(_MLPClassifier):
-    __doc__ = (
-        """DINOv2 features + MLP head with MC dropout (the paper's DINOv2NN).
+    """DINOv2 features + MLP head with MC dropout (the paper's DINOv2NN).
 
     Input: 2-D features, e.g. the output of
     :class:`sklearn_hardness.features.DINOv2Features` (frozen DINOv2
     embeddings of the selected frames, concatenated). The backbone is not
     part of this net, so features are extracted once and MC sampling only
     re-runs the head. Same head as :class:`OFNNClassifier`.
-"""
-        + _MLP_PARAMS_DOC
-        + """
+
+    Parameters
+    ----------
+    module : torch.nn.Module class, default=MLPHead
+        Network; built at fit with ``input_dim``, ``n_classes``,
+        ``hidden_units`` and ``dropout``. Its ``forward`` takes
+        ``(X, n_replicas=1)``.
+    hidden_units : int, default=128
+        Width of the hidden layer (128 in the paper).
+    dropout : float, default=0.2
+        Dropout probability after the hidden layer (0.2 in the paper). A plain
+        parameter, so ``GridSearchCV(pipe, {"clf__dropout": [...]})`` works;
+        setting it on a fitted net changes the live dropout layers.
+    class_weight : dict, "balanced" or None, default=None
+        Weights of the classes in the loss, as in scikit-learn
+        (:func:`sklearn.utils.class_weight.compute_class_weight` on the
+        cold-start training labels); a dict maps labels to weights.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the initial weights, the shuffling and the training dropout
+        masks (without touching torch's global generator). ``None`` uses
+        torch's global generator.
+    criterion : torch criterion class, default=torch.nn.CrossEntropyLoss
+        The module returns logits; ``predict_proba`` applies softmax.
+    optimizer : torch optimizer class, default=torch.optim.Adam
+    lr : float, default=1e-3
+    max_epochs : int, default=50
+        Epochs of :meth:`fit` (the paper trains the heads for 50 epochs
+        initially, then 25 per active-sampling round via
+        ``partial_fit(X, y, epochs=25)``).
+    batch_size : int, default=32
+    train_split : callable or None, default=None
+        None trains on all of ``X`` (as the paper does); see skorch.
+    classes : array-like or None, default=None
+        All labels, if ``y`` may not contain every class.
+    verbose : int, default=0
+    device : {"cpu", "cuda", "auto"} or str, default="cpu"
+        ``"auto"`` picks CUDA when available.
+    **kwargs
+        Other skorch parameters (``callbacks``, ``iterator_train__*``,
+        ``optimizer__*``, ``module__*``, ``warm_start``...).
+
+    Attributes
+    ----------
+    classes_ : ndarray of shape (n_classes,)
+        Class labels.
+    n_features_in_ : int
+        Number of features seen during fit.
+    module_ : MLPHead
+        The trained network.
+    history_ : skorch.History
+        Per-epoch training loss (``train_loss``).
+    class_weight_ : ndarray of shape (n_classes,) or None
+        Weights of the classes in the loss.
+    final_train_loss_ : float
+        Training loss of the last epoch (see
+        :func:`sklearn_hardness.models.is_converged`).
+
     Examples
     --------
     >>> import numpy as np
@@ -239,5 +291,4 @@ class DINOv2NNClassifier(_MLPClassifier):
     >>> clf = DINOv2NNClassifier(max_epochs=5, random_state=0).fit(X, y)
     >>> clf.predict_proba(X[:2]).shape
     (2, 3)
-"""
-    )
+    """
