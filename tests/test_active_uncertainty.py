@@ -6,7 +6,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-from sklearn_hardness.active import class_uncertainty
+from sklearn.utils._param_validation import InvalidParameterError
+
+from sklearn_hardness.active import class_uncertainty, variance_decomposition
 
 KINDS = ["entropy", "variance", "bald"]
 
@@ -171,8 +173,12 @@ def test_bad_input(p, match):
 
 def test_bad_kind_and_type():
     p = np.full((2, 2, 2), 0.5)
-    with pytest.raises(ValueError, match="kind must be one of"):
+    with pytest.raises(InvalidParameterError, match="'kind' parameter of class_uncertainty"):
         class_uncertainty(p, "margin")
+    with pytest.raises(InvalidParameterError, match="'atol' parameter of class_uncertainty"):
+        class_uncertainty(p, "entropy", atol=-1.0)
+    with pytest.raises(InvalidParameterError, match="'proba_samples' parameter of variance_decomposition"):
+        variance_decomposition("p")
     with pytest.raises(TypeError, match="real numbers"):
         class_uncertainty(np.array([[["a", "b"]]]), "entropy")
     with pytest.raises(TypeError):
@@ -239,8 +245,6 @@ def test_properties_over_extreme_inputs(p):
 
 
 def test_variance_decomposition_sums_to_eq2_and_separates_sources():
-    from sklearn_hardness.active import variance_decomposition
-
     rng = np.random.default_rng(0)
     logits = rng.normal(size=(30, 5, 4))
     p = np.exp(logits) / np.exp(logits).sum(-1, keepdims=True)
