@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from sklearn.base import BaseEstimator, TransformerMixin, clone
+from sklearn.base import BaseEstimator, ClassifierMixin, TransformerMixin, clone
 from sklearn.exceptions import NotFittedError
 from sklearn.pipeline import Pipeline, make_pipeline
 from sklearn.preprocessing import StandardScaler
@@ -481,3 +481,58 @@ def test_pickle_round_trip_drops_feature_cache(data):
     assert getattr(restored, "_feature_cache", None) is None
     np.testing.assert_allclose(restored.predict_proba(X_test), p)
     restored.teach(X0[:2], y0[:2])  # still usable
+
+
+class LogitRowsMC(ClassifierMixin, BaseEstimator):
+    """Deterministic MC model: the first n_classes columns of a row are its logits,
+    and pass j adds a fixed per-pass offset (so passes differ, reproducibly)."""
+
+    def fit(self, X, y):
+        self.classes_ = np.unique(y)
+        return self
+
+    def predict_proba_samples(self, X, n_samples=50, random_state=None):
+        m = len(self.classes_)
+        offsets = np.sin(np.arange(n_samples)[:, None] + np.arange(m)[None])  # (n, m)
+        z = np.asarray(X, dtype=np.float64)[None, :, :m] + offsets[:, None, :]
+        e = np.exp(z - z.max(axis=2, keepdims=True))
+        return e / e.sum(axis=2, keepdims=True)
+
+    def predict_proba(self, X):
+        return self.predict_proba_samples(X, n_samples=1)[0]
+
+
+@pytest.mark.parametrize("strategy", ["entropy", "variance", "bald", "margin", "mc_variance"])
+@pytest.mark.parametrize("in_pipeline", [False, True])
+def test_query_scores_the_presses_it_was_given(strategy, in_pipeline):
+    """Everything query records and decides comes from the MC passes on X_test:
+    computed on any other presses (the initial training set, the reservoir) the
+    scores and the choice differ."""
+    from sklearn.preprocessing import FunctionTransformer
+
+    from sklearn_hardness.active import get_strategy
+
+    X0 = np.repeat(np.eye(3) * 6.0, 2, axis=0)  # confident training presses
+    y0 = np.repeat([0, 1, 2], 2)
+    X_test = np.array([[2.0, 0.0, 1.5], [0.5, 0.0, 2.5], [3.0, 0.2, 0.0]])  # 0 or 2?
+    model = LogitRowsMC()
+    double = FunctionTransformer(lambda X: 2 * np.asarray(X))  # the feature step matters
+    est = make_pipeline(double, model) if in_pipeline else model
+    learner = ActiveLearner(est, strategy, n_mc_samples=7, random_state=0).fit(X0, y0)
+    idx, scores = learner.query(X_test)
+    features = double.transform(X_test) if in_pipeline else X_test
+    p = model.fit(X0, y0).predict_proba_samples(features, n_samples=7)
+    expected_idx, expected_scores = get_strategy(strategy)(p)
+    np.testing.assert_allclose(scores, expected_scores)
+    np.testing.assert_array_equal(idx, expected_idx)
+    entry = learner.history_[-1]
+    assert entry["n_test"] == 3
+    for kind in ("entropy", "variance", "bald"):
+        np.testing.assert_allclose(entry[kind], class_uncertainty(p, kind))
+    parts = variance_decomposition(p)
+    np.testing.assert_allclose(entry["variance_mc"], parts["mc"])
+    np.testing.assert_allclose(entry["variance_between"], parts["between"])
+    # the test can tell: on the training presses the same strategy scores otherwise
+    X0_features = double.transform(X0) if in_pipeline else X0
+    p_train = model.predict_proba_samples(X0_features, n_samples=7)
+    assert not np.allclose(get_strategy(strategy)(p_train)[1], scores)
