@@ -10,7 +10,6 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
-from sklearn.base import BaseEstimator, ClassifierMixin
 
 from sklearn_hardness.active import (
     ActiveLearner,
@@ -20,6 +19,8 @@ from sklearn_hardness.active import (
     random_sampling,
     variance_decomposition,
 )
+
+from ._active_net import CentroidMC
 
 NAMES = ("entropy", "variance", "bald", "margin", "mc_variance", "random")
 FAST = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -154,34 +155,6 @@ def test_random_sampling_ignores_the_probabilities(p, seed):
 
 
 # ------------------------------------------------------------- the learner
-class CentroidMC(ClassifierMixin, BaseEstimator):
-    """A cheap MC classifier: softmax of minus squared distances to class centroids,
-    with seeded Gaussian noise on the logits standing in for dropout."""
-
-    def __init__(self, noise=0.5):
-        self.noise = noise
-
-    def fit(self, X, y):
-        self.classes_ = np.unique(y)
-        self.centroids_ = np.stack([X[y == c].mean(axis=0) for c in self.classes_])
-        self.n_train_ = len(y)
-        return self
-
-    def _logits(self, X):
-        return -((X[:, None, :] - self.centroids_[None]) ** 2).sum(-1)
-
-    def predict_proba(self, X):
-        z = self._logits(X)
-        e = np.exp(z - z.max(axis=1, keepdims=True))
-        return e / e.sum(axis=1, keepdims=True)
-
-    def predict_proba_samples(self, X, n_samples=50, random_state=None):
-        z = self._logits(X)[None] + self.noise * np.random.default_rng(random_state).normal(
-            size=(n_samples, len(X), len(self.classes_)))
-        e = np.exp(z - z.max(axis=2, keepdims=True))
-        return e / e.sum(axis=2, keepdims=True)
-
-
 @settings(max_examples=60, deadline=None)
 @given(
     counts=st.lists(st.integers(0, 3), min_size=2, max_size=4),

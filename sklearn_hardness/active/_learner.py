@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import inspect
-from numbers import Integral
+from numbers import Integral, Real
 
 import numpy as np
 from sklearn.base import (
@@ -156,6 +156,26 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         the random strategy; with an int, training (weight init, batch
         order, dropout) is seeded too, through a forked torch RNG that
         leaves the global torch seed untouched.
+    stop_threshold : float in (0, 1] or None, default=None
+        Optional stopping rule (not in the paper; ``None``, the default,
+        turns it off and Algorithm 1 runs unchanged). The *decision* on the
+        test object is the class with the highest mean MC probability
+        (mean over the passes and test presses of a :meth:`query`, recorded
+        as ``"decision"`` and ``"confidence"`` in ``history_``). The decision
+        is *settled*, and :meth:`query` sets ``stop_reason_ = "settled"``,
+        when that mean probability is at least ``stop_threshold``
+        and the decision was the same in the last ``stop_patience``
+        queries. It reads the same seeded MC passes as the strategy and
+        draws no random numbers, so turning it on changes no query.
+    stop_patience : int, default=2
+        Number of consecutive queries (this one included) whose decision
+        must agree before the rule stops (``k``).
+    max_presses : int or None, default=None
+        Press budget: the most presses :meth:`teach` may add after
+        :meth:`fit` (the hard cap, with or without ``stop_threshold``).
+        A :meth:`teach` that would exceed it raises and adds nothing; the
+        first :meth:`query` after the budget is spent sets
+        ``stop_reason_ = "budget"``. ``None``: no budget.
 
     Attributes
     ----------
@@ -186,6 +206,14 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         ConvLSTM runs with a loss above 1 as not converged).
     n_iterations_ : int
         Number of :meth:`teach` calls since :meth:`fit`.
+    n_presses_ : int
+        Presses added by :meth:`teach` since :meth:`fit`.
+    stop_reason_ : {"settled", "budget"} or None
+        Why the run should stop, set by the first :meth:`query` that found
+        the decision settled or the press budget spent; None until then
+        (always None without ``stop_threshold`` and ``max_presses``).
+    stop_iteration_ : int or None
+        ``n_iterations_`` (teaches so far) when ``stop_reason_`` was set.
 
     See Also
     --------
@@ -205,6 +233,53 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             idx, scores = learner.query(X_test)
             learner.teach(*oracle.press(learner.classes_[idx[0]], 5))
             acc = learner.score(X_test, y_test)    # dropout off
+
+    With the stopping rule, press until the decision is settled, at most 25
+    presses::
+
+        learner = ActiveLearner(clf, "variance", stop_threshold=0.9,
+                                stop_patience=2, max_presses=25).fit(X0, y0)
+        while True:
+            idx, _ = learner.query(X_test)
+            if learner.stop_reason_ is not None:   # "settled" or "budget"
+                break
+            learner.teach(*oracle.press(learner.classes_[idx[0]], 5))
+        decision = learner.history_[-1]["decision"]
+
+    A runnable version on blobs:
+
+    >>> import numpy as np
+    >>> from sklearn.discriminant_analysis import LinearDiscriminantAnalysis
+    >>> from sklearn_hardness.active import ActiveLearner, PressOracle
+    >>> class BootstrapLDA(LinearDiscriminantAnalysis):
+    ...     # "MC passes" from LDAs fit on bootstrap resamples of the training set
+    ...     def fit(self, X, y):
+    ...         self.X_, self.y_ = X, y
+    ...         return super().fit(X, y)
+    ...     def predict_proba_samples(self, X, n_samples=50, random_state=None):
+    ...         rng = np.random.default_rng(random_state)
+    ...         out = []
+    ...         for _ in range(n_samples):
+    ...             i = rng.choice(len(self.y_), len(self.y_))
+    ...             i = np.concatenate([i, np.unique(self.y_, return_index=True)[1]])
+    ...             lda = LinearDiscriminantAnalysis().fit(self.X_[i], self.y_[i])
+    ...             out.append(lda.predict_proba(X))
+    ...         return np.stack(out)
+    >>> rng = np.random.default_rng(0)
+    >>> y = np.repeat([0, 1, 2], 30)
+    >>> X = rng.normal(size=(90, 2)) + 4.0 * np.eye(3)[y][:, :2]
+    >>> oracle = PressOracle(X, y, random_state=0)
+    >>> X_test, _ = oracle.press(1, 4)          # presses of the test object
+    >>> learner = ActiveLearner(BootstrapLDA(), "margin", n_mc_samples=10,
+    ...                         stop_threshold=0.9, max_presses=15, random_state=0)
+    >>> _ = learner.fit(*oracle.initial(3))
+    >>> while True:
+    ...     idx, _ = learner.query(X_test)
+    ...     if learner.stop_reason_ is not None:
+    ...         break
+    ...     _ = learner.teach(*oracle.press(learner.classes_[idx[0]], 5))
+    >>> learner.stop_reason_, learner.n_presses_, learner.history_[-1]["decision"]
+    ('settled', 5, 1)
     """
 
     _parameter_constraints = {
@@ -217,6 +292,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         "classes": ["array-like", None],
         "cache_test_features": ["boolean"],
         "random_state": ["random_state"],
+        "stop_threshold": [Interval(Real, 0, 1, closed="right"), None],
+        "stop_patience": [Interval(Integral, 1, None, closed="left")],
+        "max_presses": [Interval(Integral, 1, None, closed="left"), None],
     }
 
     def __init__(
@@ -231,6 +309,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         classes=None,
         cache_test_features=True,
         random_state=None,
+        stop_threshold=None,
+        stop_patience=2,
+        max_presses=None,
     ):
         self.estimator = estimator
         self.query_strategy = query_strategy
@@ -241,6 +322,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         self.classes = classes
         self.cache_test_features = cache_test_features
         self.random_state = random_state
+        self.stop_threshold = stop_threshold
+        self.stop_patience = stop_patience
+        self.max_presses = max_presses
 
     def __getstate__(self):
         # the cached test features are a convenience, not state worth pickling
@@ -422,6 +506,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         self.reservoir_X_ = Xt
         self.reservoir_y_ = y.copy()
         self.n_iterations_ = 0
+        self.n_presses_ = 0
+        self.stop_reason_ = None
+        self.stop_iteration_ = None
         self.initial_train_loss_ = loss
         self.history_ = [
             {
@@ -529,19 +616,36 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
                 f"the query strategy must return class indices in [0, {n_classes}), "
                 f"got {idx!r}."
             )
+        mu = np.asarray(proba, dtype=np.float64).mean(axis=(0, 1))
         entry = {
             "event": "query",
             "iteration": self.n_iterations_,
             "queried": idx,
             "scores": scores,
             "n_test": int(proba.shape[1]),
+            "decision": int(np.argmax(mu)),
+            "confidence": float(mu.max()),
         }
         for kind in UNCERTAINTY_KINDS:
             entry[kind] = class_uncertainty(proba, kind)
         parts = variance_decomposition(proba)
         entry["variance_mc"], entry["variance_between"] = parts["mc"], parts["between"]
+        entry["stop"] = self._stop_reason(entry)
+        if entry["stop"] is not None and self.stop_reason_ is None:
+            self.stop_reason_, self.stop_iteration_ = entry["stop"], self.n_iterations_
         self.history_.append(entry)
         return idx, scores
+
+    def _stop_reason(self, entry):
+        """"settled", "budget" or None for a new query entry (see ``stop_threshold``)."""
+        if self.stop_threshold is not None and entry["confidence"] >= self.stop_threshold:
+            decisions = [h["decision"] for h in self.history_ if h["event"] == "query"]
+            recent = (decisions + [entry["decision"]])[-self.stop_patience :]
+            if len(recent) == self.stop_patience and len(set(recent)) == 1:
+                return "settled"
+        if self.max_presses is not None and self.n_presses_ >= self.max_presses:
+            return "budget"
+        return None
 
     def teach(self, X_new, y_new):
         """Add presses to the reservoir and continue training.
@@ -571,6 +675,12 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             raise ValueError("X_new is empty: teach() needs at least one new press.")
         if n_new != y_new.shape[0]:
             raise ValueError(f"X_new has {n_new} samples but y_new has {y_new.shape[0]} labels.")
+        if self.max_presses is not None and self.n_presses_ + n_new > self.max_presses:
+            raise ValueError(
+                f"teaching {n_new} presses would exceed the press budget "
+                f"max_presses={self.max_presses} ({self.n_presses_} used); nothing "
+                "was added."
+            )
         M = self.max_reservoir
         if M is not None and M < n_new:
             raise ValueError(
@@ -590,6 +700,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             X_train, y_train = self.reservoir_X_, self.reservoir_y_
         loss = self._train(X_train, y_train, self.epochs_per_query)
         self.n_iterations_ += 1
+        self.n_presses_ += n_new
         self.history_.append(
             {
                 "event": "teach",
