@@ -200,7 +200,11 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         the per-class ``entropy``, ``variance`` and ``bald`` of the
         same MC passes (see :func:`class_uncertainty`), and the two parts of
         the variance, ``variance_mc`` and ``variance_between`` (see
-        :func:`variance_decomposition`; they sum to ``variance``).
+        :func:`variance_decomposition`; they sum to ``variance``), the
+        ``decision`` on the test object (class index of the highest mean MC
+        probability), its ``confidence`` (that mean probability) and
+        ``stop`` (the stopping rule's verdict: ``"settled"``, ``"budget"``
+        or None).
     initial_train_loss_ : float or None
         Training loss after the initial training (the paper reports
         ConvLSTM runs with a loss above 1 as not converged).
