@@ -3,10 +3,12 @@
 A skorch ``NeuralNetClassifier`` around an MLP with dropout whose
 ``predict_proba_samples`` runs the module with dropout on, as the library's
 nets do. It is trained for real in the tests (a few epochs on blobs).
+``CentroidMC`` is a much cheaper stand-in for tests that run many learners.
 """
 
 import numpy as np
 import torch
+from sklearn.base import BaseEstimator, ClassifierMixin
 from skorch import NeuralNetClassifier
 from torch import nn
 
@@ -75,3 +77,31 @@ def make_blobs(n_per_class=30, n_classes=3, n_features=4, spread=1.0, seed=0):
         X.append(centre + spread * rng.standard_normal((n_per_class, n_features)))
         y.append(np.full(n_per_class, c))
     return np.concatenate(X).astype(np.float32), np.concatenate(y)
+
+
+class CentroidMC(ClassifierMixin, BaseEstimator):
+    """A cheap MC classifier: softmax of minus squared distances to class centroids,
+    with seeded Gaussian noise on the logits standing in for dropout."""
+
+    def __init__(self, noise=0.5):
+        self.noise = noise
+
+    def fit(self, X, y):
+        self.classes_ = np.unique(y)
+        self.centroids_ = np.stack([X[y == c].mean(axis=0) for c in self.classes_])
+        self.n_train_ = len(y)
+        return self
+
+    def _logits(self, X):
+        return -((X[:, None, :] - self.centroids_[None]) ** 2).sum(-1)
+
+    def predict_proba(self, X):
+        z = self._logits(X)
+        e = np.exp(z - z.max(axis=1, keepdims=True))
+        return e / e.sum(axis=1, keepdims=True)
+
+    def predict_proba_samples(self, X, n_samples=50, random_state=None):
+        z = self._logits(X)[None] + self.noise * np.random.default_rng(random_state).normal(
+            size=(n_samples, len(X), len(self.classes_)))
+        e = np.exp(z - z.max(axis=2, keepdims=True))
+        return e / e.sum(axis=2, keepdims=True)

@@ -2,17 +2,19 @@
 
 import numpy as np
 import pytest
-from sklearn.base import BaseEstimator, TransformerMixin, clone
+from sklearn.base import BaseEstimator, ClassifierMixin, TransformerMixin, clone
 from sklearn.exceptions import NotFittedError
 from sklearn.pipeline import Pipeline, make_pipeline
 from sklearn.preprocessing import StandardScaler
+
+from sklearn.utils._param_validation import InvalidParameterError
 
 from sklearn_hardness.active import (
     ActiveLearner,
     PressOracle,
     class_uncertainty,
     entropy_sampling,
-    random_sampling,
+    variance_decomposition,
     variance_sampling,
 )
 from sklearn_hardness.active._learner import _concat_rows
@@ -82,8 +84,20 @@ def test_algorithm_1_loop(data):
         # the strategy's scores are the recorded variance of the same MC passes
         np.testing.assert_allclose(h["scores"], h["variance"])
         assert h["entropy"].shape == h["bald"].shape == (3,)
+        # ... and its two parts (law of total variance)
+        assert h["variance_mc"].shape == h["variance_between"].shape == (3,)
+        np.testing.assert_allclose(h["variance_mc"] + h["variance_between"], h["variance"])
     assert learner.uncertainty_history("entropy").shape == (4,)
     assert learner.uncertainty_history("variance", reduce=None).shape == (4, 3)
+    np.testing.assert_allclose(
+        learner.uncertainty_history("variance_mc", reduce=None)
+        + learner.uncertainty_history("variance_between", reduce=None),
+        learner.uncertainty_history("variance", reduce=None),
+    )
+    with pytest.raises(InvalidParameterError, match="'kind' parameter"):
+        learner.uncertainty_history("margin")
+    with pytest.raises(InvalidParameterError, match="'reduce' parameter"):
+        learner.uncertainty_history("variance", reduce="sum")
     # the experiments' metrics can be read off directly
     mae = hardness_mae(y_test, learner.predict(X_test), [1.13, 1.02, 0.79])
     assert accs[-1] >= 0.8  # separable blobs: the loop trains a useful model
@@ -166,21 +180,25 @@ def test_query_runs_mc_passes_once_and_strategy_reuses_them(data):
 
 def test_string_and_custom_strategies(data):
     X0, y0, X_test, _, _ = data
-    for name in ["entropy", "variance", "bald", "random"]:
+    for name in ["entropy", "variance", "bald", "margin", "mc_variance", "random"]:
         learner = ActiveLearner(make_net(), name, initial_epochs=1, n_mc_samples=3,
                                 random_state=0).fit(X0, y0)
         idx, scores = learner.query(X_test)
         assert 0 <= idx[0] < 3
 
-    def always_last(learner, X, n_instances=1):  # modAL-style, indices only
-        return np.arange(len(learner.classes_))[-n_instances:]
+    seen = []
+
+    def always_last(proba_samples, n_instances=1):  # indices only, no random_state
+        seen.append(proba_samples.shape)
+        return np.arange(proba_samples.shape[-1])[-n_instances:]
 
     learner = ActiveLearner(make_net(), always_last, initial_epochs=1, n_mc_samples=3).fit(X0, y0)
     idx, scores = learner.query(X_test)
     assert idx.tolist() == [2] and scores is None
+    assert seen == [(3, len(X_test), 3)]  # the MC passes on the test presses
     assert learner.history_[-1]["variance"].shape == (3,)  # still recorded
 
-    def bad(learner, X, n_instances=1):
+    def bad(proba_samples, n_instances=1):
         return np.array([5])
 
     learner.set_params(query_strategy=bad)
@@ -325,11 +343,11 @@ def test_non_skorch_estimator_is_refit_and_string_labels(data):
 # ---------------------------------------------------------------- bad input
 def test_unknown_strategy(data):
     X0, y0, X_test, _, _ = data
-    with pytest.raises(ValueError, match="unknown query strategy 'uncertainty'"):
+    with pytest.raises(InvalidParameterError, match="'query_strategy' parameter of ActiveLearner"):
         ActiveLearner(make_net(), "uncertainty").fit(X0, y0)
     learner = ActiveLearner(make_net(), initial_epochs=1).fit(X0, y0)
-    learner.set_params(query_strategy="margin")
-    with pytest.raises(ValueError, match="unknown query strategy"):
+    learner.set_params(query_strategy="uncertainty")
+    with pytest.raises(InvalidParameterError, match="'query_strategy' parameter"):
         learner.query(X_test)
 
 
@@ -389,12 +407,35 @@ def test_teach_before_fit_and_bad_teach(data):
 @pytest.mark.parametrize(
     "param, value",
     [("initial_epochs", 0), ("epochs_per_query", -1), ("n_mc_samples", 0),
-     ("max_reservoir", 0), ("initial_epochs", 2.5)],
+     ("max_reservoir", 0), ("initial_epochs", 2.5), ("cache_test_features", "yes"),
+     ("random_state", "seed"), ("classes", 3), ("estimator", "net"), ("query_strategy", 3)],
 )
 def test_bad_params(param, value, data):
     X0, y0, _, _, _ = data
-    with pytest.raises(ValueError, match=param):
-        ActiveLearner(make_net(), **{param: value}).fit(X0, y0)
+    params = {"estimator": make_net(), param: value}
+    with pytest.raises(InvalidParameterError, match=f"'{param}' parameter of ActiveLearner"):
+        ActiveLearner(**params).fit(X0, y0)
+
+
+def test_bad_query_and_sampling_arguments(data):
+    X0, y0, X_test, _, _ = data
+    learner = ActiveLearner(make_net(), initial_epochs=1, n_mc_samples=3).fit(X0, y0)
+    with pytest.raises(InvalidParameterError, match="'n_instances' parameter"):
+        learner.query(X_test, n_instances=0)
+    with pytest.raises(ValueError, match="n_instances=4 is larger than the number of classes"):
+        learner.query(X_test, n_instances=4)
+    with pytest.raises(InvalidParameterError, match="'n_samples' parameter"):
+        learner.predict_proba_samples(X_test, n_samples=0)
+    with pytest.raises(ValueError, match="X_test is None"):
+        learner.query(None)
+
+
+def test_estimator_without_mc_dropout(data):
+    from sklearn.linear_model import LogisticRegression
+
+    X0, y0, _, _, _ = data
+    with pytest.raises(TypeError, match="LogisticRegression has no predict_proba_samples"):
+        ActiveLearner(make_pipeline(StandardScaler(), LogisticRegression())).fit(X0, y0)
 
 
 def test_bad_fit_input(data):
@@ -418,13 +459,12 @@ def test_estimator_classes_must_match(data):
         ActiveLearner(net, initial_epochs=1).fit(X0, y0)
 
 
-def test_strategy_called_on_the_learner_itself(data):
+def test_strategy_on_the_learners_own_samples(data):
     X0, y0, X_test, _, _ = data
     learner = ActiveLearner(make_net(), initial_epochs=2, n_mc_samples=5).fit(X0, y0)
-    idx, scores = variance_sampling(learner, X_test, n_samples=6, random_state=2)
-    seed = int(np.random.RandomState(2).randint(np.iinfo(np.int32).max))
-    p = learner.predict_proba_samples(X_test, n_samples=6, random_state=seed)
+    p = learner.predict_proba_samples(X_test, n_samples=6, random_state=2)
     assert p.shape == (6, len(X_test), 3)
+    idx, scores = variance_sampling(p)
     np.testing.assert_allclose(scores, class_uncertainty(p, "variance"))
     assert learner.predict_proba_samples(X_test).shape[0] == 5  # default n_mc_samples
 
@@ -441,3 +481,58 @@ def test_pickle_round_trip_drops_feature_cache(data):
     assert getattr(restored, "_feature_cache", None) is None
     np.testing.assert_allclose(restored.predict_proba(X_test), p)
     restored.teach(X0[:2], y0[:2])  # still usable
+
+
+class LogitRowsMC(ClassifierMixin, BaseEstimator):
+    """Deterministic MC model: the first n_classes columns of a row are its logits,
+    and pass j adds a fixed per-pass offset (so passes differ, reproducibly)."""
+
+    def fit(self, X, y):
+        self.classes_ = np.unique(y)
+        return self
+
+    def predict_proba_samples(self, X, n_samples=50, random_state=None):
+        m = len(self.classes_)
+        offsets = np.sin(np.arange(n_samples)[:, None] + np.arange(m)[None])  # (n, m)
+        z = np.asarray(X, dtype=np.float64)[None, :, :m] + offsets[:, None, :]
+        e = np.exp(z - z.max(axis=2, keepdims=True))
+        return e / e.sum(axis=2, keepdims=True)
+
+    def predict_proba(self, X):
+        return self.predict_proba_samples(X, n_samples=1)[0]
+
+
+@pytest.mark.parametrize("strategy", ["entropy", "variance", "bald", "margin", "mc_variance"])
+@pytest.mark.parametrize("in_pipeline", [False, True])
+def test_query_scores_the_presses_it_was_given(strategy, in_pipeline):
+    """Everything query records and decides comes from the MC passes on X_test:
+    computed on any other presses (the initial training set, the reservoir) the
+    scores and the choice differ."""
+    from sklearn.preprocessing import FunctionTransformer
+
+    from sklearn_hardness.active import get_strategy
+
+    X0 = np.repeat(np.eye(3) * 6.0, 2, axis=0)  # confident training presses
+    y0 = np.repeat([0, 1, 2], 2)
+    X_test = np.array([[2.0, 0.0, 1.5], [0.5, 0.0, 2.5], [3.0, 0.2, 0.0]])  # 0 or 2?
+    model = LogitRowsMC()
+    double = FunctionTransformer(lambda X: 2 * np.asarray(X))  # the feature step matters
+    est = make_pipeline(double, model) if in_pipeline else model
+    learner = ActiveLearner(est, strategy, n_mc_samples=7, random_state=0).fit(X0, y0)
+    idx, scores = learner.query(X_test)
+    features = double.transform(X_test) if in_pipeline else X_test
+    p = model.fit(X0, y0).predict_proba_samples(features, n_samples=7)
+    expected_idx, expected_scores = get_strategy(strategy)(p)
+    np.testing.assert_allclose(scores, expected_scores)
+    np.testing.assert_array_equal(idx, expected_idx)
+    entry = learner.history_[-1]
+    assert entry["n_test"] == 3
+    for kind in ("entropy", "variance", "bald"):
+        np.testing.assert_allclose(entry[kind], class_uncertainty(p, kind))
+    parts = variance_decomposition(p)
+    np.testing.assert_allclose(entry["variance_mc"], parts["mc"])
+    np.testing.assert_allclose(entry["variance_between"], parts["between"])
+    # the test can tell: on the training presses the same strategy scores otherwise
+    X0_features = double.transform(X0) if in_pipeline else X0
+    p_train = model.predict_proba_samples(X0_features, n_samples=7)
+    assert not np.allclose(get_strategy(strategy)(p_train)[1], scores)

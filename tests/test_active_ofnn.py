@@ -8,6 +8,7 @@ from sklearn.preprocessing import StandardScaler
 from sklearn_hardness.active import (
     ActiveLearner,
     PressOracle,
+    as_modal_strategy,
     bald_sampling,
     class_uncertainty,
     entropy_sampling,
@@ -44,12 +45,13 @@ def pipe(pool):
 )
 def test_strategies_on_ofnn_pipeline(strategy, pipe, pool):
     _, X_test, _ = pool
-    idx, scores = strategy(pipe, X_test, n_instances=2, n_samples=16, random_state=0)
+    idx, scores = as_modal_strategy(strategy, n_samples=16)(pipe, X_test, n_instances=2,
+                                                             random_state=0)
     assert idx.shape == (2,) and scores.shape == (3,)
     if strategy is not random_sampling:
         Xt = pipe[:-1].transform(X_test)
-        # replay the strategy's MC seed
-        seed = int(np.random.RandomState(0).randint(np.iinfo(np.int32).max))
+        # replay the adapter's MC seed
+        seed = int(np.random.RandomState(0).randint(np.iinfo(np.int32).max, size=2)[0])
         p = pipe[-1].predict_proba_samples(Xt, n_samples=16, random_state=seed)
         kind = strategy.__name__.split("_")[0]
         np.testing.assert_allclose(scores, class_uncertainty(p, kind))

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from sklearn.utils._param_validation import InvalidParameterError
 
 from sklearn_hardness.active import PressOracle
 
@@ -93,7 +94,10 @@ def test_list_pool_and_string_labels():
 @pytest.mark.parametrize(
     "kwargs, err, match",
     [
-        (dict(on_exhausted="wrap"), ValueError, "on_exhausted must be one of"),
+        (dict(on_exhausted="wrap"), InvalidParameterError, "'on_exhausted' parameter of PressOracle"),
+        (dict(random_state="seed"), InvalidParameterError, "'random_state' parameter of PressOracle"),
+        (dict(X_pool=None), InvalidParameterError, "'X_pool' parameter of PressOracle"),
+        (dict(y_pool="abc"), InvalidParameterError, "'y_pool' parameter of PressOracle"),
         (dict(y_pool=np.zeros((3, 1))), ValueError, "y_pool must be 1-D"),
         (dict(y_pool=np.zeros(5)), ValueError, "has 6 presses but y_pool has 5"),
     ],
@@ -111,9 +115,12 @@ def test_bad_press():
     oracle = PressOracle(X, y)
     with pytest.raises(ValueError, match=r"unknown reference object 7; the pool has \[0, 1, 2\]"):
         oracle.press(7)
-    for n in (0, -2, 1.5, True):
-        with pytest.raises(ValueError, match="n_presses must be a positive int"):
+    for n in (0, -2, 1.5, None):
+        with pytest.raises(InvalidParameterError, match="'n_presses' parameter"):
             oracle.press(0, n)
+    with pytest.raises(InvalidParameterError, match="'n_per_class' parameter"):
+        oracle.initial(0)
+    assert oracle.drawn_ == []  # nothing drawn by the failed calls
     with pytest.raises(ValueError, match="repeated"):
         oracle.press([0, 0])
     with pytest.raises(ValueError, match="empty"):

@@ -1,23 +1,25 @@
-"""Query strategies on a real (tiny) MC-dropout net, plain and in a Pipeline."""
+"""Query strategies as functions of MC-dropout probabilities, on a real (tiny) net."""
 
 import numpy as np
 import pytest
-from sklearn.pipeline import Pipeline, make_pipeline
-from sklearn.preprocessing import StandardScaler
+from sklearn.utils._param_validation import InvalidParameterError
 
 from sklearn_hardness.active import (
     bald_sampling,
     class_uncertainty,
     entropy_sampling,
     get_strategy,
+    margin_sampling,
+    mc_variance_sampling,
     random_sampling,
+    variance_decomposition,
     variance_sampling,
 )
-from sklearn_hardness.active._strategies import _predict_proba_samples
 
-from ._active_net import MCDropoutNet, make_blobs, make_net
+from ._active_net import make_blobs, make_net
 
-STRATEGIES = [entropy_sampling, variance_sampling, bald_sampling, random_sampling]
+STRATEGIES = [entropy_sampling, variance_sampling, bald_sampling, margin_sampling,
+              mc_variance_sampling, random_sampling]
 UNCERTAIN = {"entropy": entropy_sampling, "variance": variance_sampling, "bald": bald_sampling}
 
 
@@ -27,18 +29,18 @@ def blobs():
 
 
 @pytest.fixture(scope="module")
-def net(blobs):
+def proba(blobs):
     import torch
 
     torch.manual_seed(0)
     X, y = blobs
-    return make_net(max_epochs=15).fit(X, y)
+    net = make_net(max_epochs=15).fit(X, y)
+    return net.predict_proba_samples(X[:12], n_samples=20, random_state=0)
 
 
 @pytest.mark.parametrize("strategy", STRATEGIES)
-def test_return_shape_order_and_scores(strategy, net, blobs):
-    X, _ = blobs
-    idx, scores = strategy(net, X[:12], n_instances=2, n_samples=20, random_state=0)
+def test_return_shape_order_and_scores(strategy, proba):
+    idx, scores = strategy(proba, n_instances=2, random_state=0)
     assert idx.shape == (2,) and np.issubdtype(idx.dtype, np.integer)
     assert len(set(idx.tolist())) == 2
     assert scores.shape == (3,) and scores.dtype == np.float64
@@ -49,21 +51,21 @@ def test_return_shape_order_and_scores(strategy, net, blobs):
 
 
 @pytest.mark.parametrize("kind", sorted(UNCERTAIN))
-def test_scores_are_class_uncertainty_of_the_same_passes(kind, net, blobs):
-    X, _ = blobs
-    idx, scores = UNCERTAIN[kind](net, X[:10], n_samples=15, random_state=3)
-    # the strategy draws its MC seed from random_state; replay it
-    rng = np.random.RandomState(3)
-    seed = int(rng.randint(np.iinfo(np.int32).max))
-    p = net.predict_proba_samples(X[:10], n_samples=15, random_state=seed)
-    np.testing.assert_allclose(scores, class_uncertainty(p, kind))
+def test_scores_are_class_uncertainty(kind, proba):
+    _, scores = UNCERTAIN[kind](proba, random_state=3)
+    np.testing.assert_allclose(scores, class_uncertainty(proba, kind))
+
+
+def test_mc_variance_scores_are_the_mc_part_of_eq2(proba):
+    _, scores = mc_variance_sampling(proba)
+    np.testing.assert_allclose(scores, variance_decomposition(proba)["mc"])
+    assert np.all(scores <= class_uncertainty(proba, "variance") + 1e-15)
 
 
 @pytest.mark.parametrize("strategy", STRATEGIES)
-def test_seeded_is_reproducible(strategy, net, blobs):
-    X, _ = blobs
-    a = strategy(net, X[:8], n_instances=3, n_samples=10, random_state=7)
-    b = strategy(net, X[:8], n_instances=3, n_samples=10, random_state=7)
+def test_seeded_is_reproducible(strategy, proba):
+    a = strategy(proba, n_instances=3, random_state=7)
+    b = strategy(proba, n_instances=3, random_state=7)
     np.testing.assert_array_equal(a[0], b[0])
     np.testing.assert_array_equal(a[1], b[1])
 
@@ -82,102 +84,141 @@ def test_picks_the_confused_classes():
     ]).astype(np.float32)
     y = np.repeat([0, 1, 2], 40)
     net = make_net(max_epochs=20).fit(X, y)
-    X_test = X[:20]  # presses of object 0, which is confused with object 1
-    for strategy in (entropy_sampling, variance_sampling, bald_sampling):
-        idx, scores = strategy(net, X_test, n_instances=2, n_samples=30, random_state=0)
+    p = net.predict_proba_samples(X[:20], n_samples=30, random_state=0)  # presses of object 0
+    for strategy in (entropy_sampling, variance_sampling, bald_sampling, mc_variance_sampling):
+        idx, scores = strategy(p, n_instances=2, random_state=0)
         assert set(idx.tolist()) == {0, 1}, strategy.__name__
         assert scores[2] < min(scores[0], scores[1])
+    # margin presses the competitor of the decision, never the far class first
+    idx, scores = margin_sampling(p, n_instances=2, random_state=0)
+    decision = p.mean(axis=(0, 1)).argmax()
+    assert idx[0] == 1 - decision and idx[1] == 2
 
 
-def test_random_sampling_is_uniform(net, blobs):
-    X, _ = blobs
-    picks = [random_sampling(net, X[:2], random_state=s)[0][0] for s in range(600)]
+def test_random_sampling_is_uniform(proba):
+    picks = [random_sampling(proba, random_state=s)[0][0] for s in range(600)]
     counts = np.bincount(picks, minlength=3)
     assert counts.min() > 150  # expected 200 each
-    # it runs no forward pass
-    before = MCDropoutNet.n_mc_calls
-    random_sampling(net, X[:2], random_state=0)
-    assert MCDropoutNet.n_mc_calls == before
 
 
-def test_ties_are_broken_by_the_seed_not_always_class_0():
-    class Uniform:
-        classes_ = np.arange(4)
-
-        def predict_proba_samples(self, X, n_samples=50, random_state=None):
-            return np.full((n_samples, len(X), 4), 0.25)
-
-    firsts = {entropy_sampling(Uniform(), np.zeros((2, 1)), random_state=s)[0][0] for s in range(40)}
+@pytest.mark.parametrize("strategy", STRATEGIES)
+def test_ties_are_broken_by_the_seed_not_always_class_0(strategy):
+    uniform = np.full((3, 2, 4), 0.25)
+    firsts = {strategy(uniform, random_state=s)[0][0] for s in range(60)}
     assert firsts == {0, 1, 2, 3}
 
 
-def test_through_pipeline(blobs):
-    import torch
+# ------------------------------------------------ constructed cases: what each picks
+def _case():
+    """Three classes on two test presses, four passes, each class uncertain in one way.
 
-    torch.manual_seed(0)
-    X, y = blobs
-    X_shifted = X * 10 + 100  # the scaler matters
-    pipe = make_pipeline(StandardScaler(), make_net(max_epochs=10)).fit(X_shifted, y)
-    Xt = pipe[:-1].transform(X_shifted[:9])
-    p_direct = pipe[-1].predict_proba_samples(Xt, n_samples=12, random_state=5)
-    p_pipe = _predict_proba_samples(pipe, X_shifted[:9], n_samples=12, random_state=5)
-    np.testing.assert_allclose(p_pipe, p_direct)
-    idx, scores = variance_sampling(pipe, X_shifted[:9], n_samples=12, random_state=0)
-    assert idx.shape == (1,) and scores.shape == (3,)
-    idx, _ = random_sampling(pipe, X_shifted[:9], random_state=0)
-    assert 0 <= idx[0] < 3
+    - class 0 (the decision): the presses disagree (0.9 vs 0.3), the passes agree;
+    - class 1: the runner-up, its probability varies between the passes;
+    - class 2: stable and small.
+    """
+    p = np.empty((4, 2, 3))
+    wobble = np.array([-0.1, 0.1, -0.1, 0.1])
+    p[:, 0] = [0.9, 0.05, 0.05]
+    p[:, 1, 0] = 0.3
+    p[:, 1, 1] = 0.55 + wobble
+    p[:, 1, 2] = 0.15 - wobble
+    p[:, 0, 1] = 0.05
+    return p
 
 
-def test_passthrough_step_is_skipped(net, blobs):
-    X, _ = blobs
-    pipe = Pipeline([("nothing", "passthrough"), ("net", net)])
-    np.testing.assert_allclose(
-        _predict_proba_samples(pipe, X[:3], n_samples=4, random_state=1),
-        net.predict_proba_samples(X[:3], n_samples=4, random_state=1),
-    )
+def test_constructed_case_variance_follows_press_disagreement():
+    p = _case()
+    assert variance_sampling(p)[0][0] == 0  # Eq. 2: the decision class, from press disagreement
+    d = variance_decomposition(p)
+    assert d["between"][0] > d["mc"][0] == 0  # ... none of it from the model
+
+
+def test_constructed_case_mc_variance_follows_the_passes():
+    p = _case()
+    idx, scores = mc_variance_sampling(p, n_instances=3, random_state=0)
+    assert scores[0] == 0  # the passes agree on class 0
+    assert set(idx[:2].tolist()) == {1, 2}  # classes 1 and 2 wobble together
+
+
+def test_constructed_case_margin_presses_the_runner_up():
+    p = _case()
+    idx, scores = margin_sampling(p, n_instances=3)
+    mu = p.mean(axis=(0, 1))
+    assert mu.argmax() == 0
+    assert idx.tolist() == [1, 2, 0]  # runner-up first, the decision last
+    np.testing.assert_allclose(scores, [-1.0, mu[1] - mu[0], mu[2] - mu[0]])
+
+
+def test_variance_reinforces_itself_mc_variance_does_not():
+    """The self-reinforcing query: class 1 is confused with the test object.
+    After its presses are added the model is sure on some test presses and
+    unsure on others, so its probability moves towards 0.5 on average and
+    Eq. 2 rises, while the MC part (the model's own uncertainty) falls."""
+    n = 8
+    before = np.empty((n, 4, 2))
+    before[..., 1] = 0.2 + 0.1 * np.sin(np.arange(n))[:, None]  # unsure everywhere
+    after = np.empty((n, 4, 2))
+    after[..., 1] = np.array([0.95, 0.9, 0.1, 0.05])  # sure, but presses disagree
+    for p in (before, after):
+        p[..., 0] = 1 - p[..., 1]
+    v_before, v_after = (class_uncertainty(p, "variance")[1] for p in (before, after))
+    mc_before, mc_after = (variance_decomposition(p)["mc"][1] for p in (before, after))
+    assert v_after > v_before  # Eq. 2 asks for class 1 again, and more urgently
+    assert mc_after < mc_before  # the model's own uncertainty about class 1 fell
+    assert mc_after == pytest.approx(0, abs=1e-20)
 
 
 def test_get_strategy():
     assert get_strategy("entropy") is entropy_sampling
     assert get_strategy("variance") is variance_sampling
     assert get_strategy("bald") is bald_sampling
+    assert get_strategy("margin") is margin_sampling
+    assert get_strategy("mc_variance") is mc_variance_sampling
     assert get_strategy("random") is random_sampling
-    with pytest.raises(ValueError, match="unknown query strategy 'margin'"):
-        get_strategy("margin")
-    with pytest.raises(TypeError, match="name or a callable"):
+
+    def custom(proba_samples, n_instances=1):
+        return np.arange(n_instances)
+
+    assert get_strategy(custom) is custom
+    with pytest.raises(InvalidParameterError, match="'strategy' parameter of get_strategy"):
+        get_strategy("uncertainty")
+    with pytest.raises(TypeError, match="'strategy' parameter of get_strategy"):
         get_strategy(3)
 
 
 # ---------------------------------------------------------------- bad input
 @pytest.mark.parametrize("strategy", STRATEGIES)
-def test_empty_test_set(strategy, net):
-    with pytest.raises(ValueError, match="X_test is empty"):
-        strategy(net, np.zeros((0, 4), dtype=np.float32))
-    with pytest.raises(ValueError, match="X_test is empty"):
-        strategy(net, [])
+@pytest.mark.parametrize("n_instances", [0, -1, 1.5, "2", None])
+def test_bad_n_instances(strategy, n_instances, proba):
+    with pytest.raises(InvalidParameterError, match="'n_instances' parameter"):
+        strategy(proba, n_instances=n_instances)
 
 
 @pytest.mark.parametrize("strategy", STRATEGIES)
-@pytest.mark.parametrize("n_instances", [0, -1, 4, 1.5, True])
-def test_bad_n_instances(strategy, n_instances, net, blobs):
-    X, _ = blobs
-    with pytest.raises(ValueError, match="n_instances"):
-        strategy(net, X[:3], n_instances=n_instances, n_samples=3)
+def test_more_instances_than_classes(strategy, proba):
+    with pytest.raises(ValueError, match="n_instances=4 is larger than the number of classes"):
+        strategy(proba, n_instances=4)
 
 
-@pytest.mark.parametrize("kind", sorted(UNCERTAIN))
-def test_bad_n_samples(kind, net, blobs):
-    X, _ = blobs
-    with pytest.raises(ValueError, match="n_samples must be a positive int"):
-        UNCERTAIN[kind](net, X[:3], n_samples=0)
+@pytest.mark.parametrize("strategy", STRATEGIES)
+@pytest.mark.parametrize(
+    "bad, err, match",
+    [
+        (None, TypeError, "'proba_samples' parameter"),
+        ("p", TypeError, "'proba_samples' parameter"),
+        (np.full((3, 2), 0.5), ValueError, "3-D"),
+        (np.zeros((2, 0, 3)), ValueError, "at least one MC pass and one test input"),
+        (np.ones((2, 2, 1)), ValueError, "at least 2 classes"),
+        (np.array([[[0.5, np.nan]]]), ValueError, "NaN"),
+        (np.array([[[2.0, -1.0]]]), ValueError, "logits"),
+    ],
+)
+def test_bad_proba_samples(strategy, bad, err, match):
+    with pytest.raises(err, match=match):
+        strategy(bad)
 
 
-def test_estimator_without_mc_dropout(blobs):
-    from sklearn.linear_model import LogisticRegression
-
-    X, y = blobs
-    lr = LogisticRegression().fit(X, y)
-    with pytest.raises(TypeError, match="no predict_proba_samples"):
-        entropy_sampling(lr, X[:3])
-    with pytest.raises(TypeError, match="no predict_proba_samples"):
-        entropy_sampling(make_pipeline(StandardScaler(), lr).fit(X, y), X[:3])
+@pytest.mark.parametrize("strategy", STRATEGIES)
+def test_bad_random_state(strategy, proba):
+    with pytest.raises(InvalidParameterError, match="'random_state' parameter"):
+        strategy(proba, random_state="seed")

@@ -9,19 +9,24 @@ object, and press the most uncertain one again (Algorithm 1).
   probabilities; :func:`variance_decomposition` splits Eq. 2 into its
   MC-dropout part and its between-press part.
 - :func:`entropy_sampling`, :func:`variance_sampling`, :func:`bald_sampling`,
-  :func:`random_sampling`: modAL-style strategies returning
-  ``(class_indices, scores)``.
+  :func:`margin_sampling`, :func:`mc_variance_sampling`,
+  :func:`random_sampling`: strategies, functions of the MC-dropout
+  probabilities on the test presses, returning ``(class_indices, scores)``;
+  :func:`as_modal_strategy` adapts one to modAL.
 - :class:`ActiveLearner`: fit / query / teach with a capped training
   reservoir and warm-started retraining.
 - :class:`PressOracle`: draws unseen presses of a queried object from a pool.
 """
 
 from ._learner import ActiveLearner
+from ._modal import as_modal_strategy
 from ._oracle import PressOracle
 from ._strategies import (
     bald_sampling,
     entropy_sampling,
     get_strategy,
+    margin_sampling,
+    mc_variance_sampling,
     random_sampling,
     variance_sampling,
 )
@@ -36,6 +41,9 @@ __all__ = [
     "entropy_sampling",
     "variance_sampling",
     "bald_sampling",
+    "margin_sampling",
+    "mc_variance_sampling",
     "random_sampling",
     "get_strategy",
+    "as_modal_strategy",
 ]

@@ -4,25 +4,30 @@ from __future__ import annotations
 
 import contextlib
 import inspect
-import numbers
+from numbers import Integral, Real
 
 import numpy as np
-from sklearn.base import BaseEstimator, ClassifierMixin, MetaEstimatorMixin, clone
+from sklearn.base import (
+    BaseEstimator,
+    ClassifierMixin,
+    MetaEstimatorMixin,
+    _fit_context,
+    clone,
+)
+from sklearn.exceptions import NotFittedError
 from sklearn.metrics import accuracy_score
 from sklearn.pipeline import Pipeline
 from sklearn.utils import _safe_indexing, check_random_state
-from sklearn.exceptions import NotFittedError
+from sklearn.utils._param_validation import (
+    HasMethods,
+    Interval,
+    StrOptions,
+    validate_params,
+)
 from sklearn.utils.validation import check_is_fitted
 
-from ._strategies import (
-    _check_test_set,
-    _n_rows,
-    _predict_proba_samples,
-    _seed_from,
-    get_strategy,
-    variance_sampling,
-)
-from ._uncertainty import UNCERTAINTY_KINDS, class_uncertainty
+from ._strategies import STRATEGY_NAMES, get_strategy, variance_sampling
+from ._uncertainty import UNCERTAINTY_KINDS, class_uncertainty, variance_decomposition
 
 __all__ = ["ActiveLearner"]
 
@@ -64,6 +69,17 @@ def _concat_rows(a, b):
     return [a[i] for i in range(len(a))] + [b[i] for i in range(len(b))]
 
 
+def _n_rows(X):
+    if hasattr(X, "shape") and getattr(X, "ndim", 1) >= 1:
+        return X.shape[0]
+    return len(X)
+
+
+def _seed_from(rng):
+    """An int seed drawn from a RandomState (for APIs that want an int)."""
+    return int(rng.randint(np.iinfo(np.int32).max))
+
+
 def _accepts_kwargs(func, names):
     """The subset of ``names`` that ``func`` accepts as keyword arguments."""
     try:
@@ -73,36 +89,6 @@ def _accepts_kwargs(func, names):
     if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values()):
         return set(names)
     return {n for n in names if n in params}
-
-
-def _check_pos_int(value, name, allow_none=False):
-    if value is None and allow_none:
-        return None
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
-        raise ValueError(
-            f"{name} must be a positive int{' or None' if allow_none else ''}, got {value!r}."
-        )
-    return int(value)
-
-
-class _CachedSamples:
-    """Learner proxy handing a strategy the MC passes the learner already ran."""
-
-    def __init__(self, learner, X, n_samples, proba):
-        self._learner = learner
-        self._X = X
-        self._n_samples = n_samples
-        self._proba = proba
-
-    def predict_proba_samples(self, X, n_samples=50, random_state=None):
-        if X is self._X and n_samples == self._n_samples:
-            return self._proba
-        return self._learner.predict_proba_samples(
-            X, n_samples=n_samples, random_state=random_state
-        )
-
-    def __getattr__(self, name):
-        return getattr(self._learner, name)
 
 
 class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
@@ -133,12 +119,15 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         are fit once, on the initial presses, and their output for every
         reservoir sample is kept, so frozen features (optical flow, DINOv2)
         are computed once per press.
-    query_strategy : {"variance", "entropy", "bald", "random"} or callable, \
-            default=variance_sampling
+    query_strategy : {"variance", "entropy", "bald", "margin", "mc_variance", \
+            "random"} or callable, default=variance_sampling
         The strategy, by name or as a callable
-        ``strategy(learner, X_test, n_instances=1, *, n_samples, random_state)``
-        returning ``(class_indices, scores)`` or ``class_indices``
-        (``n_samples``/``random_state`` are passed only if accepted).
+        ``strategy(proba_samples, n_instances=1, *, random_state=None)``
+        that receives the MC-dropout probabilities on the test presses,
+        shape ``(n_mc_samples, n_test, n_classes)``, and returns
+        ``(class_indices, scores)`` or ``class_indices`` (``random_state``
+        is passed only if accepted). See :func:`variance_sampling` and the
+        other strategies.
     initial_epochs : int, default=100
         Epochs of the initial training (``e0``).
     epochs_per_query : int, default=50
@@ -167,6 +156,26 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         the random strategy; with an int, training (weight init, batch
         order, dropout) is seeded too, through a forked torch RNG that
         leaves the global torch seed untouched.
+    stop_threshold : float in (0, 1] or None, default=None
+        Optional stopping rule (not in the paper; ``None``, the default,
+        turns it off and Algorithm 1 runs unchanged). The *decision* on the
+        test object is the class with the highest mean MC probability
+        (mean over the passes and test presses of a :meth:`query`, recorded
+        as ``"decision"`` and ``"confidence"`` in ``history_``). The decision
+        is *settled*, and :meth:`query` sets ``stop_reason_ = "settled"``,
+        when that mean probability is at least ``stop_threshold``
+        and the decision was the same in the last ``stop_patience``
+        queries. It reads the same seeded MC passes as the strategy and
+        draws no random numbers, so turning it on changes no query.
+    stop_patience : int, default=2
+        Number of consecutive queries (this one included) whose decision
+        must agree before the rule stops (``k``).
+    max_presses : int or None, default=None
+        Press budget: the most presses :meth:`teach` may add after
+        :meth:`fit` (the hard cap, with or without ``stop_threshold``).
+        A :meth:`teach` that would exceed it raises and adds nothing; the
+        first :meth:`query` after the budget is spent sets
+        ``stop_reason_ = "budget"``. ``None``: no budget.
 
     Attributes
     ----------
@@ -188,13 +197,27 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         ``train_loss`` (the last epoch's training loss for a skorch net,
         else None). ``"query"`` entries have ``queried`` (class indices),
         ``scores`` (the strategy's per-class scores or None), ``n_test``,
-        and the per-class ``entropy``, ``variance`` and ``bald`` of the
-        same MC passes (see :func:`class_uncertainty`).
+        the per-class ``entropy``, ``variance`` and ``bald`` of the
+        same MC passes (see :func:`class_uncertainty`), and the two parts of
+        the variance, ``variance_mc`` and ``variance_between`` (see
+        :func:`variance_decomposition`; they sum to ``variance``), the
+        ``decision`` on the test object (class index of the highest mean MC
+        probability), its ``confidence`` (that mean probability) and
+        ``stop`` (the stopping rule's verdict: ``"settled"``, ``"budget"``
+        or None).
     initial_train_loss_ : float or None
         Training loss after the initial training (the paper reports
         ConvLSTM runs with a loss above 1 as not converged).
     n_iterations_ : int
         Number of :meth:`teach` calls since :meth:`fit`.
+    n_presses_ : int
+        Presses added by :meth:`teach` since :meth:`fit`.
+    stop_reason_ : {"settled", "budget"} or None
+        Why the run should stop, set by the first :meth:`query` that found
+        the decision settled or the press budget spent; None until then
+        (always None without ``stop_threshold`` and ``max_presses``).
+    stop_iteration_ : int or None
+        ``n_iterations_`` (teaches so far) when ``stop_reason_`` was set.
 
     See Also
     --------
@@ -214,7 +237,69 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             idx, scores = learner.query(X_test)
             learner.teach(*oracle.press(learner.classes_[idx[0]], 5))
             acc = learner.score(X_test, y_test)    # dropout off
+
+    With the stopping rule, press until the decision is settled, at most 25
+    presses::
+
+        learner = ActiveLearner(clf, "variance", stop_threshold=0.9,
+                                stop_patience=2, max_presses=25).fit(X0, y0)
+        while True:
+            idx, _ = learner.query(X_test)
+            if learner.stop_reason_ is not None:   # "settled" or "budget"
+                break
+            learner.teach(*oracle.press(learner.classes_[idx[0]], 5))
+        decision = learner.history_[-1]["decision"]
+
+    A runnable version on blobs:
+
+    >>> import numpy as np
+    >>> from sklearn.discriminant_analysis import LinearDiscriminantAnalysis
+    >>> from sklearn_hardness.active import ActiveLearner, PressOracle
+    >>> class BootstrapLDA(LinearDiscriminantAnalysis):
+    ...     # "MC passes" from LDAs fit on bootstrap resamples of the training set
+    ...     def fit(self, X, y):
+    ...         self.X_, self.y_ = X, y
+    ...         return super().fit(X, y)
+    ...     def predict_proba_samples(self, X, n_samples=50, random_state=None):
+    ...         rng = np.random.default_rng(random_state)
+    ...         out = []
+    ...         for _ in range(n_samples):
+    ...             i = rng.choice(len(self.y_), len(self.y_))
+    ...             i = np.concatenate([i, np.unique(self.y_, return_index=True)[1]])
+    ...             lda = LinearDiscriminantAnalysis().fit(self.X_[i], self.y_[i])
+    ...             out.append(lda.predict_proba(X))
+    ...         return np.stack(out)
+    >>> rng = np.random.default_rng(0)
+    >>> y = np.repeat([0, 1, 2], 30)
+    >>> X = rng.normal(size=(90, 2)) + 4.0 * np.eye(3)[y][:, :2]
+    >>> oracle = PressOracle(X, y, random_state=0)
+    >>> X_test, _ = oracle.press(1, 4)          # presses of the test object
+    >>> learner = ActiveLearner(BootstrapLDA(), "margin", n_mc_samples=10,
+    ...                         stop_threshold=0.9, max_presses=15, random_state=0)
+    >>> _ = learner.fit(*oracle.initial(3))
+    >>> while True:
+    ...     idx, _ = learner.query(X_test)
+    ...     if learner.stop_reason_ is not None:
+    ...         break
+    ...     _ = learner.teach(*oracle.press(learner.classes_[idx[0]], 5))
+    >>> learner.stop_reason_, learner.n_presses_, learner.history_[-1]["decision"]
+    ('settled', 5, 1)
     """
+
+    _parameter_constraints = {
+        "estimator": [HasMethods(["fit"])],
+        "query_strategy": [StrOptions(set(STRATEGY_NAMES)), callable],
+        "initial_epochs": [Interval(Integral, 1, None, closed="left")],
+        "epochs_per_query": [Interval(Integral, 1, None, closed="left")],
+        "max_reservoir": [Interval(Integral, 1, None, closed="left"), None],
+        "n_mc_samples": [Interval(Integral, 1, None, closed="left")],
+        "classes": ["array-like", None],
+        "cache_test_features": ["boolean"],
+        "random_state": ["random_state"],
+        "stop_threshold": [Interval(Real, 0, 1, closed="right"), None],
+        "stop_patience": [Interval(Integral, 1, None, closed="left")],
+        "max_presses": [Interval(Integral, 1, None, closed="left"), None],
+    }
 
     def __init__(
         self,
@@ -228,6 +313,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         classes=None,
         cache_test_features=True,
         random_state=None,
+        stop_threshold=None,
+        stop_patience=2,
+        max_presses=None,
     ):
         self.estimator = estimator
         self.query_strategy = query_strategy
@@ -238,6 +326,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         self.classes = classes
         self.cache_test_features = cache_test_features
         self.random_state = random_state
+        self.stop_threshold = stop_threshold
+        self.stop_patience = stop_patience
+        self.max_presses = max_presses
 
     def __getstate__(self):
         # the cached test features are a convenience, not state worth pickling
@@ -250,27 +341,18 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         est = self.estimator_
         return est.steps[-1][1] if isinstance(est, Pipeline) else est
 
-    def _feature_steps(self):
-        est = self.estimator_
-        if not isinstance(est, Pipeline):
-            return []
-        return [
-            step
-            for _, step in est.steps[:-1]
-            if step is not None and not (isinstance(step, str) and step == "passthrough")
-        ]
+    def _has_feature_steps(self):
+        return isinstance(self.estimator_, Pipeline) and len(self.estimator_.steps) > 1
 
     def _transform(self, X, *, cache=False):
-        steps = self._feature_steps()
-        if not steps:
+        if not self._has_feature_steps():
             return X
         if cache and self.cache_test_features:
             cached = getattr(self, "_feature_cache", None)
             if cached is not None and cached[0] is X:
                 return cached[1]
-        Xt = X
-        for step in steps:
-            Xt = step.transform(Xt)
+        # scikit-learn's own slicing: skips "passthrough" steps as Pipeline does
+        Xt = self.estimator_[:-1].transform(X)
         if cache and self.cache_test_features:
             self._feature_cache = (X, Xt)
         return Xt
@@ -376,6 +458,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             )
 
     # ------------------------------------------------------------------ API
+    @_fit_context(prefer_skip_nested_validation=False)
     def fit(self, X, y):
         """Initial training on the first presses of every reference object.
 
@@ -391,11 +474,6 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         -------
         self : ActiveLearner
         """
-        get_strategy(self.query_strategy)  # fail early on an unknown name
-        initial_epochs = _check_pos_int(self.initial_epochs, "initial_epochs")
-        _check_pos_int(self.epochs_per_query, "epochs_per_query")
-        _check_pos_int(self.n_mc_samples, "n_mc_samples")
-        _check_pos_int(self.max_reservoir, "max_reservoir", allow_none=True)
         if not (hasattr(X, "__len__") or hasattr(X, "shape")):
             raise TypeError(f"X must be an array or a sequence, got {type(X).__name__}.")
         y = np.asarray(y)
@@ -411,11 +489,14 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         self._rng = check_random_state(self.random_state)
         self._feature_cache = None
         self.estimator_ = clone(self.estimator)
-        if isinstance(self.estimator_, Pipeline) and len(self.estimator_.steps) > 1:
-            Xt = self.estimator_[:-1].fit_transform(X, y)
-        else:
-            Xt = X
-        loss = self._train(Xt, y, initial_epochs)
+        if not hasattr(self._final(), "predict_proba_samples"):
+            raise TypeError(
+                f"{type(self._final()).__name__} has no predict_proba_samples: active "
+                "sampling needs a Monte-Carlo-dropout classifier (e.g. "
+                "sklearn_hardness.models.OFNNClassifier) or a Pipeline ending in one."
+            )
+        Xt = self.estimator_[:-1].fit_transform(X, y) if self._has_feature_steps() else X
+        loss = self._train(Xt, y, self.initial_epochs)
         final_classes = getattr(self._final(), "classes_", None)
         if final_classes is not None and not (
             len(final_classes) == len(self.classes_)
@@ -429,6 +510,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         self.reservoir_X_ = Xt
         self.reservoir_y_ = y.copy()
         self.n_iterations_ = 0
+        self.n_presses_ = 0
+        self.stop_reason_ = None
+        self.stop_iteration_ = None
         self.initial_train_loss_ = loss
         self.history_ = [
             {
@@ -438,12 +522,19 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
                 "new_classes": np.unique(y),
                 "reservoir_size": n,
                 "train_size": n,
-                "epochs": initial_epochs,
+                "epochs": self.initial_epochs,
                 "train_loss": loss,
             }
         ]
         return self
 
+    @validate_params(
+        {
+            "n_samples": [Interval(Integral, 1, None, closed="left"), None],
+            "random_state": ["random_state"],
+        },
+        prefer_skip_nested_validation=True,
+    )
     def predict_proba_samples(self, X, n_samples=None, random_state=None):
         """Class probabilities of MC-dropout passes (dropout on).
 
@@ -462,23 +553,24 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         """
         check_is_fitted(self, "estimator_")
         n_samples = self.n_mc_samples if n_samples is None else n_samples
-        _check_pos_int(n_samples, "n_samples")
-        proba = _predict_proba_samples(
-            self._final(),
-            self._transform(X, cache=True),
-            n_samples=n_samples,
-            random_state=random_state,
+        proba = self._final().predict_proba_samples(
+            self._transform(X, cache=True), n_samples=n_samples, random_state=random_state
         )
         proba = np.asarray(proba)
         self._n_out_check(proba.shape[-1])
         return proba
 
+    @validate_params(
+        {"n_instances": [Interval(Integral, 1, None, closed="left")]},
+        prefer_skip_nested_validation=True,
+    )
     def query(self, X_test, n_instances=1):
         """Choose the reference object(s) to press next.
 
-        Runs ``n_mc_samples`` MC-dropout passes on the test presses, records
-        the per-class entropy, variance and BALD of those passes in
-        ``history_``, and calls the query strategy on them.
+        Runs ``n_mc_samples`` MC-dropout passes on the test presses once,
+        hands those probabilities to the query strategy, and records in
+        ``history_`` the strategy's choice and the per-class entropy,
+        variance, BALD and the two parts of the variance of the same passes.
 
         Parameters
         ----------
@@ -496,16 +588,21 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             returns indices only).
         """
         check_is_fitted(self, "estimator_")
+        self._validate_params()  # set_params may have changed them since fit
         strategy = get_strategy(self.query_strategy)
-        _check_test_set(X_test)
-        seed = _seed_from(self._rng)
+        if X_test is None:
+            raise ValueError("X_test is None; pass presses of the test object.")
+        if _n_rows(X_test) == 0:
+            raise ValueError(
+                "X_test is empty: uncertainty strategies need at least one press of "
+                "the test object."
+            )
         proba = self.predict_proba_samples(
-            X_test, n_samples=self.n_mc_samples, random_state=seed
+            X_test, n_samples=self.n_mc_samples, random_state=_seed_from(self._rng)
         )
-        proxy = _CachedSamples(self, X_test, self.n_mc_samples, proba)
-        kwargs = {"n_samples": self.n_mc_samples, "random_state": _seed_from(self._rng)}
+        kwargs = {"random_state": _seed_from(self._rng)}
         kwargs = {k: v for k, v in kwargs.items() if k in _accepts_kwargs(strategy, kwargs)}
-        result = strategy(proxy, X_test, n_instances, **kwargs)
+        result = strategy(proba, n_instances, **kwargs)
         if isinstance(result, tuple) and len(result) == 2:
             idx, scores = result
             scores = None if scores is None else np.asarray(scores, dtype=np.float64)
@@ -523,17 +620,36 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
                 f"the query strategy must return class indices in [0, {n_classes}), "
                 f"got {idx!r}."
             )
+        mu = np.asarray(proba, dtype=np.float64).mean(axis=(0, 1))
         entry = {
             "event": "query",
             "iteration": self.n_iterations_,
             "queried": idx,
             "scores": scores,
             "n_test": int(proba.shape[1]),
+            "decision": int(np.argmax(mu)),
+            "confidence": float(mu.max()),
         }
         for kind in UNCERTAINTY_KINDS:
             entry[kind] = class_uncertainty(proba, kind)
+        parts = variance_decomposition(proba)
+        entry["variance_mc"], entry["variance_between"] = parts["mc"], parts["between"]
+        entry["stop"] = self._stop_reason(entry)
+        if entry["stop"] is not None and self.stop_reason_ is None:
+            self.stop_reason_, self.stop_iteration_ = entry["stop"], self.n_iterations_
         self.history_.append(entry)
         return idx, scores
+
+    def _stop_reason(self, entry):
+        """"settled", "budget" or None for a new query entry (see ``stop_threshold``)."""
+        if self.stop_threshold is not None and entry["confidence"] >= self.stop_threshold:
+            decisions = [h["decision"] for h in self.history_ if h["event"] == "query"]
+            recent = (decisions + [entry["decision"]])[-self.stop_patience :]
+            if len(recent) == self.stop_patience and len(set(recent)) == 1:
+                return "settled"
+        if self.max_presses is not None and self.n_presses_ >= self.max_presses:
+            return "budget"
+        return None
 
     def teach(self, X_new, y_new):
         """Add presses to the reservoir and continue training.
@@ -563,6 +679,12 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             raise ValueError("X_new is empty: teach() needs at least one new press.")
         if n_new != y_new.shape[0]:
             raise ValueError(f"X_new has {n_new} samples but y_new has {y_new.shape[0]} labels.")
+        if self.max_presses is not None and self.n_presses_ + n_new > self.max_presses:
+            raise ValueError(
+                f"teaching {n_new} presses would exceed the press budget "
+                f"max_presses={self.max_presses} ({self.n_presses_} used); nothing "
+                "was added."
+            )
         M = self.max_reservoir
         if M is not None and M < n_new:
             raise ValueError(
@@ -582,6 +704,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             X_train, y_train = self.reservoir_X_, self.reservoir_y_
         loss = self._train(X_train, y_train, self.epochs_per_query)
         self.n_iterations_ += 1
+        self.n_presses_ += n_new
         self.history_.append(
             {
                 "event": "teach",
@@ -640,12 +763,21 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         """
         return accuracy_score(y, self.predict(X), sample_weight=sample_weight)
 
+    @validate_params(
+        {
+            "kind": [StrOptions({*UNCERTAINTY_KINDS, "variance_mc", "variance_between"})],
+            "reduce": [StrOptions({"mean", "max"}), None],
+        },
+        prefer_skip_nested_validation=True,
+    )
     def uncertainty_history(self, kind="variance", reduce="mean"):
         """Per-query uncertainty, e.g. for the paper's entropy/variance plots.
 
         Parameters
         ----------
-        kind : {"entropy", "variance", "bald"}, default="variance"
+        kind : {"entropy", "variance", "bald", "variance_mc", "variance_between"}, \
+                default="variance"
+            Which per-class value of the ``history_`` query entries.
         reduce : {"mean", "max", None}, default="mean"
             How to reduce over classes; None keeps all classes.
 
@@ -654,10 +786,6 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         values : ndarray of shape (n_queries,) or (n_queries, n_classes)
         """
         check_is_fitted(self, "estimator_")
-        if kind not in UNCERTAINTY_KINDS:
-            raise ValueError(f"kind must be one of {list(UNCERTAINTY_KINDS)}, got {kind!r}.")
-        if reduce not in ("mean", "max", None):
-            raise ValueError(f"reduce must be 'mean', 'max' or None, got {reduce!r}.")
         rows = [h[kind] for h in self.history_ if h["event"] == "query"]
         values = np.array(rows).reshape(len(rows), len(self.classes_))
         if reduce is None:

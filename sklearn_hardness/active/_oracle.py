@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-import numbers
 import warnings
+from numbers import Integral
 
 import numpy as np
 from sklearn.utils import _safe_indexing, check_random_state
+from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
 __all__ = ["PressOracle"]
 
@@ -63,11 +64,18 @@ class PressOracle:
     {0: 2, 1: 0}
     """
 
+    # not an estimator (it is not fit): the constructor validates, as scikit-learn's
+    # public functions do
+    @validate_params(
+        {
+            "X_pool": ["array-like"],
+            "y_pool": ["array-like"],
+            "random_state": ["random_state"],
+            "on_exhausted": [StrOptions(set(_ON_EXHAUSTED))],
+        },
+        prefer_skip_nested_validation=True,
+    )
     def __init__(self, X_pool, y_pool, *, random_state=None, on_exhausted="raise"):
-        if on_exhausted not in _ON_EXHAUSTED:
-            raise ValueError(
-                f"on_exhausted must be one of {list(_ON_EXHAUSTED)}, got {on_exhausted!r}."
-            )
         y = np.asarray(y_pool)
         if y.ndim != 1:
             raise ValueError(f"y_pool must be 1-D, got shape {y.shape}.")
@@ -128,6 +136,10 @@ class PressOracle:
         self._next[key] = start + n
         return self._order[key][start : start + n]
 
+    @validate_params(
+        {"n_presses": [Interval(Integral, 1, None, closed="left")]},
+        prefer_skip_nested_validation=True,
+    )
     def press(self, label, n_presses=1):
         """Draw ``n_presses`` unseen presses of one or more reference objects.
 
@@ -154,12 +166,6 @@ class PressOracle:
             than ``n_presses`` unseen presses remain for a class; the message
             names the class and how many remain, and nothing is drawn.
         """
-        if (
-            isinstance(n_presses, bool)
-            or not isinstance(n_presses, numbers.Integral)
-            or n_presses < 1
-        ):
-            raise ValueError(f"n_presses must be a positive int, got {n_presses!r}.")
         labels = np.atleast_1d(np.asarray(label))
         if labels.ndim != 1 or labels.size == 0:
             raise ValueError(f"label must be one label or a 1-D list of labels, got {label!r}.")
@@ -179,6 +185,10 @@ class PressOracle:
         self.drawn_.extend(idx.tolist())
         return _safe_indexing(self.X_pool, idx), self.y_pool[idx]
 
+    @validate_params(
+        {"n_per_class": [Interval(Integral, 1, None, closed="left")]},
+        prefer_skip_nested_validation=True,
+    )
     def initial(self, n_per_class):
         """Draw the initial training set: ``n_per_class`` presses of every object.
 

@@ -1,279 +1,329 @@
-"""Query strategies that pick the reference object (class) to press next.
+"""Query strategies: which reference object (class) to press next.
 
-The strategies follow modAL's calling convention,
-``strategy(learner, X, n_instances=1, **kwargs)``, but they answer a
-different question than modAL's pool-based strategies: they do not pick
-samples of ``X`` to label. ``X`` holds presses of the *test object*; the
-strategy returns the *classes* (reference objects) whose uncertainty on
-those presses is highest, and the agent then presses those reference
-objects to collect more training data (Algorithm 1 of the paper).
+Every strategy is a function of the Monte-Carlo-dropout probabilities that a
+classifier gave on presses of the *test object*,
+``strategy(proba_samples, n_instances=1, *, random_state=None)``, with
+``proba_samples`` of shape ``(n_samples, n_X, n_classes)``, and returns
+``(class_indices, scores)``. They answer a different question than modAL's
+pool-based strategies: they do not pick rows of ``X`` to label, they pick the
+*classes* (reference objects) to press again (Algorithm 1 of the paper).
+:class:`ActiveLearner` runs the MC passes once per query and hands them to
+the strategy; :func:`as_modal_strategy` adapts a strategy to modAL.
 """
 
 from __future__ import annotations
 
-import numbers
+from numbers import Integral
 
 import numpy as np
-from sklearn.pipeline import Pipeline
 from sklearn.utils import check_random_state
+from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
-from ._uncertainty import class_uncertainty
+from ._uncertainty import check_proba_samples, class_uncertainty, variance_decomposition
 
 __all__ = [
     "entropy_sampling",
     "variance_sampling",
     "bald_sampling",
+    "margin_sampling",
+    "mc_variance_sampling",
     "random_sampling",
     "get_strategy",
 ]
 
-
-def _n_rows(X):
-    if hasattr(X, "shape") and getattr(X, "ndim", 1) >= 1:
-        return X.shape[0]
-    return len(X)
-
-
-def _seed_from(rng):
-    """An int seed drawn from a RandomState (for APIs that want an int)."""
-    return int(rng.randint(np.iinfo(np.int32).max))
+_STRATEGY_PARAMS = {
+    "proba_samples": ["array-like"],
+    "n_instances": [Interval(Integral, 1, None, closed="left")],
+    "random_state": ["random_state"],
+}
 
 
-def _predict_proba_samples(estimator, X, *, n_samples=50, random_state=None):
-    """MC-dropout probabilities from an estimator, a Pipeline or a modAL learner.
+def _top_classes(scores, n_instances, random_state):
+    """Indices of the n_instances highest scores, best first.
 
-    Parameters
-    ----------
-    estimator : object
-        One of: an object with ``predict_proba_samples`` (our nets,
-        :class:`ActiveLearner`); a :class:`~sklearn.pipeline.Pipeline` whose
-        last step has it (``X`` goes through the earlier steps' ``transform``
-        first); or an object with an ``estimator`` attribute that is one of
-        these (e.g. ``modAL.models.ActiveLearner``).
-    X : array-like or sequence of videos
-        Test inputs.
-    n_samples : int, default=50
-        Number of stochastic forward passes.
-    random_state : int, RandomState instance or None, default=None
-        Seed for the dropout masks.
-
-    Returns
-    -------
-    proba_samples : ndarray of shape (n_samples, n_X, n_classes)
+    Exactly equal scores are ordered by a random permutation drawn from
+    ``random_state``, so ties (e.g. uniform predictions) do not always
+    favour class 0.
     """
-    if hasattr(estimator, "predict_proba_samples"):
-        return estimator.predict_proba_samples(
-            X, n_samples=n_samples, random_state=random_state
-        )
-    if isinstance(estimator, Pipeline):
-        Xt = X
-        for _, step in estimator.steps[:-1]:
-            if step is None or step == "passthrough":
-                continue
-            Xt = step.transform(Xt)
-        return _predict_proba_samples(
-            estimator.steps[-1][1], Xt, n_samples=n_samples, random_state=random_state
-        )
-    inner = getattr(estimator, "estimator", None)
-    if inner is not None and inner is not estimator:
-        return _predict_proba_samples(
-            inner, X, n_samples=n_samples, random_state=random_state
-        )
-    raise TypeError(
-        f"{type(estimator).__name__} has no predict_proba_samples: uncertainty "
-        "strategies need a Monte-Carlo-dropout classifier (e.g. "
-        "sklearn_hardness.models.OFNNClassifier), a Pipeline ending in one, or "
-        "a learner wrapping one."
-    )
-
-
-def _n_classes(learner):
-    """Number of classes of a fitted learner, estimator, Pipeline or modAL learner."""
-    for obj in (learner, getattr(learner, "estimator_", None), getattr(learner, "estimator", None)):
-        if obj is None:
-            continue
-        if isinstance(obj, Pipeline):
-            obj = obj.steps[-1][1]
-        try:
-            classes = obj.classes_
-        except AttributeError:
-            continue
-        return len(classes)
-    raise TypeError(
-        f"cannot tell the number of classes of {type(learner).__name__}: it has "
-        "no classes_ attribute. Fit it first."
-    )
-
-
-def _check_n_instances(n_instances, n_classes):
-    if (
-        isinstance(n_instances, bool)
-        or not isinstance(n_instances, numbers.Integral)
-        or n_instances < 1
-    ):
-        raise ValueError(f"n_instances must be a positive int, got {n_instances!r}.")
+    n_classes = scores.shape[0]
     if n_instances > n_classes:
         raise ValueError(
             f"n_instances={n_instances} is larger than the number of classes "
             f"({n_classes}); a strategy picks distinct classes."
         )
-
-
-def _check_test_set(X):
-    if X is None:
-        raise ValueError("X_test is None; pass presses of the test object.")
-    try:
-        n = _n_rows(X)
-    except TypeError:
-        raise TypeError(
-            f"X_test must be an array or a sequence of presses, got {type(X).__name__}."
-        ) from None
-    if n == 0:
-        raise ValueError(
-            "X_test is empty: uncertainty strategies need at least one press of "
-            "the test object."
-        )
-
-
-def _top_classes(scores, n_instances, rng):
-    """Indices of the n_instances highest scores, best first.
-
-    Exactly equal scores are ordered by a random permutation drawn from
-    ``rng``, so ties (e.g. uniform predictions) do not always favour class 0.
-    """
-    tiebreak = rng.permutation(scores.shape[0])
+    tiebreak = check_random_state(random_state).permutation(n_classes)
     order = np.lexsort((tiebreak, -scores))
     return order[:n_instances].astype(np.intp)
 
 
-def _uncertainty_sampling(kind, learner, X_test, n_instances, n_samples, random_state):
-    _check_test_set(X_test)
-    if (
-        isinstance(n_samples, bool)
-        or not isinstance(n_samples, numbers.Integral)
-        or n_samples < 1
-    ):
-        raise ValueError(f"n_samples must be a positive int, got {n_samples!r}.")
-    rng = check_random_state(random_state)
-    proba = _predict_proba_samples(
-        learner, X_test, n_samples=int(n_samples), random_state=_seed_from(rng)
-    )
-    scores = class_uncertainty(proba, kind)
-    _check_n_instances(n_instances, scores.shape[0])
-    return _top_classes(scores, n_instances, rng), scores
+@validate_params(_STRATEGY_PARAMS, prefer_skip_nested_validation=True)
+def entropy_sampling(proba_samples, n_instances=1, *, random_state=None):
+    r"""Pick the class(es) whose MC-dropout entropy on the test presses is highest.
 
-
-_RETURNS = """
-    Returns
-    -------
-    class_indices : ndarray of shape (n_instances,), int
-        The chosen classes (indices into the learner's ``classes_``),
-        highest score first. Exactly tied scores are ordered at random
-        (seeded by ``random_state``).
-    scores : ndarray of shape (n_classes,), float64
-        The score of every class (not only the chosen ones), so the choice
-        can be inspected or plotted.
-
-    Notes
-    -----
-    The return value is the pair ``(class_indices, scores)`` that
-    ``modAL.models.ActiveLearner.query`` expects from a strategy (modAL
-    >= 0.4 unpacks ``query_result, query_metrics``; an index-only array of
-    length 2 would be silently split into one index and one "metric"). The
-    indices are
-    *class* indices, not rows of ``X_test``: modAL's ``query`` also returns
-    ``X_test[class_indices]``, which is meaningless here (and fails when
-    ``X_test`` has fewer rows than the chosen index).
-"""
-
-
-def _make_doc(kind, eq):
-    return f"""Pick the class(es) whose MC-dropout {kind} on the test presses is highest.
-
-    {eq}
-    See :func:`class_uncertainty` for the exact definition.
+    Eq. 1 of the paper, :math:`H_i = -\frac{1}{nl}\sum_{j,k} p_{ijk}\log
+    p_{ijk}` over ``n`` passes and ``l`` test presses; see
+    :func:`class_uncertainty`.
 
     Parameters
     ----------
-    learner : estimator
-        A fitted Monte-Carlo-dropout classifier with
-        ``predict_proba_samples``, a :class:`~sklearn.pipeline.Pipeline`
-        ending in one, an :class:`ActiveLearner`, or a
-        ``modAL.models.ActiveLearner`` wrapping one of these.
-    X_test : array-like or sequence of videos
-        Presses of the test object (at least one).
+    proba_samples : array-like of shape (n_samples, n_X, n_classes)
+        MC-dropout probabilities on the test presses, e.g.
+        ``clf.predict_proba_samples(X_test, n_samples=50)``.
     n_instances : int, default=1
         How many distinct classes to return.
-    n_samples : int, default=50
-        Number of MC-dropout forward passes.
     random_state : int, RandomState instance or None, default=None
-        Seeds the dropout masks and the tie-breaking.
-{_RETURNS}"""
+        Seeds the order of exactly tied scores.
 
+    Returns
+    -------
+    class_indices : ndarray of shape (n_instances,), int
+        The chosen classes (indices into the classifier's ``classes_``),
+        highest score first.
+    scores : ndarray of shape (n_classes,), float64
+        The score of every class, so the choice can be inspected.
 
-def entropy_sampling(learner, X_test, n_instances=1, *, n_samples=50, random_state=None):
-    return _uncertainty_sampling(
-        "entropy", learner, X_test, n_instances, n_samples, random_state
-    )
+    See Also
+    --------
+    as_modal_strategy : use this strategy in ``modAL.models.ActiveLearner``.
 
-
-def variance_sampling(learner, X_test, n_instances=1, *, n_samples=50, random_state=None):
-    return _uncertainty_sampling(
-        "variance", learner, X_test, n_instances, n_samples, random_state
-    )
-
-
-def bald_sampling(learner, X_test, n_instances=1, *, n_samples=50, random_state=None):
-    return _uncertainty_sampling(
-        "bald", learner, X_test, n_instances, n_samples, random_state
-    )
-
-
-entropy_sampling.__doc__ = _make_doc(
-    "entropy", "Eq. 1 of the paper: the mean of -p log p over passes and test presses."
-) + """
     Examples
     --------
     >>> import numpy as np
     >>> from sklearn_hardness.active import entropy_sampling
-    >>> class Net:  # any fitted classifier with predict_proba_samples
-    ...     classes_ = np.arange(3)
-    ...     def predict_proba_samples(self, X, n_samples=50, random_state=None):
-    ...         p = np.tile([0.7, 0.2, 0.1], (n_samples, len(X), 1))
-    ...         return p
-    >>> idx, scores = entropy_sampling(Net(), np.zeros((4, 2)), n_instances=2)
+    >>> p = np.tile([0.7, 0.2, 0.1], (10, 4, 1))  # 10 passes, 4 presses, 3 classes
+    >>> idx, scores = entropy_sampling(p, n_instances=2)
     >>> idx  # -0.2 log 0.2 > -0.7 log 0.7 > -0.1 log 0.1
     array([1, 0])
-"""
-variance_sampling.__doc__ = _make_doc(
-    "variance",
-    "Eq. 2 of the paper: the variance of p pooled over passes and test presses.",
-)
-bald_sampling.__doc__ = _make_doc(
-    "BALD mutual information",
-    "Our addition: each class's share of the mutual information between the "
-    "prediction and the dropout mask.",
-)
+    """
+    scores = class_uncertainty(proba_samples, "entropy")
+    return _top_classes(scores, n_instances, random_state), scores
 
 
-def random_sampling(learner, X_test, n_instances=1, *, n_samples=50, random_state=None):
-    """Pick class(es) uniformly at random (the paper's baseline).
+@validate_params(_STRATEGY_PARAMS, prefer_skip_nested_validation=True)
+def variance_sampling(proba_samples, n_instances=1, *, random_state=None):
+    r"""Pick the class(es) whose pooled MC-dropout variance is highest (the paper's).
 
-    No forward pass is run; only the number of classes of the fitted
-    ``learner`` is used.
+    Eq. 2 of the paper, :math:`\mathrm{Var}_i = \frac{1}{nl}\sum_{j,k}
+    (p_{ijk}-\mu_i)^2`, pooled over ``n`` passes *and* ``l`` test presses;
+    see :func:`class_uncertainty`. By the law of total variance it is the MC
+    part plus the between-press part (:func:`variance_decomposition`); when
+    the between-press part dominates, the query follows disagreement between
+    the test presses rather than the model's uncertainty, and it reinforces
+    itself (adding presses of a class the model confuses with the test
+    object pushes that class's probability towards 0.5 on some test presses,
+    which raises its variance further). :func:`mc_variance_sampling` keeps
+    the MC part only.
 
     Parameters
     ----------
-    learner : estimator
-        A fitted classifier with ``classes_`` (or a Pipeline/learner
-        wrapping one).
-    X_test : array-like or sequence of videos
-        Presses of the test object (checked to be non-empty, otherwise
-        unused).
+    proba_samples : array-like of shape (n_samples, n_X, n_classes)
+        MC-dropout probabilities on the test presses.
     n_instances : int, default=1
         How many distinct classes to return.
-    n_samples : int, default=50
-        Unused; accepted so all strategies share one signature.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the order of exactly tied scores.
+
+    Returns
+    -------
+    class_indices : ndarray of shape (n_instances,), int
+        The chosen classes, highest score first.
+    scores : ndarray of shape (n_classes,), float64
+        Eq. 2 for every class.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.active import variance_sampling
+    >>> p = np.array([[[0.9, 0.1, 0.0], [0.5, 0.3, 0.2]],
+    ...               [[0.7, 0.3, 0.0], [0.5, 0.3, 0.2]]])  # 2 passes, 2 presses
+    >>> idx, scores = variance_sampling(p)
+    >>> idx, scores.round(4)
+    (array([0]), array([0.0275, 0.0075, 0.01  ]))
+    """
+    scores = class_uncertainty(proba_samples, "variance")
+    return _top_classes(scores, n_instances, random_state), scores
+
+
+@validate_params(_STRATEGY_PARAMS, prefer_skip_nested_validation=True)
+def bald_sampling(proba_samples, n_instances=1, *, random_state=None):
+    r"""Pick the class(es) with the highest share of the BALD mutual information.
+
+    Our addition to the paper (Houlsby et al. 2011): per class,
+    :math:`B_i = \frac{1}{l}\sum_k [-\bar p_{ik}\log\bar p_{ik} +
+    \frac{1}{n}\sum_j p_{ijk}\log p_{ijk}]`; see :func:`class_uncertainty`.
+    It is zero when all passes agree, so it ignores disagreement between
+    test presses.
+
+    Parameters
+    ----------
+    proba_samples : array-like of shape (n_samples, n_X, n_classes)
+        MC-dropout probabilities on the test presses.
+    n_instances : int, default=1
+        How many distinct classes to return.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the order of exactly tied scores.
+
+    Returns
+    -------
+    class_indices : ndarray of shape (n_instances,), int
+        The chosen classes, highest score first.
+    scores : ndarray of shape (n_classes,), float64
+        The class-wise BALD share of every class.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.active import bald_sampling
+    >>> p = np.array([[[0.9, 0.1, 0.0]], [[0.5, 0.1, 0.4]]])  # 2 passes, 1 press
+    >>> bald_sampling(p)[0]  # class 1 is the same in every pass
+    array([2])
+    """
+    scores = class_uncertainty(proba_samples, "bald")
+    return _top_classes(scores, n_instances, random_state), scores
+
+
+@validate_params(_STRATEGY_PARAMS, prefer_skip_nested_validation=True)
+def mc_variance_sampling(proba_samples, n_instances=1, *, random_state=None):
+    r"""Pick the class(es) whose probability varies most between MC-dropout passes.
+
+    The MC part of the paper's Eq. 2 (:func:`variance_decomposition`): with
+    :math:`m_{ik} = \frac{1}{n}\sum_j p_{ijk}` the mean over passes of test
+    press :math:`k`,
+
+    .. math::
+
+        V^{\mathrm{MC}}_i = \frac{1}{l}\sum_k \frac{1}{n}\sum_j
+        (p_{ijk} - m_{ik})^2 .
+
+    Why this form: it is the variance the dropout masks cause, per press,
+    averaged over the test presses, i.e. the model's own (epistemic)
+    uncertainty, which more training presses of class :math:`i` reduce. The
+    paper's Eq. 2 adds the between-press part
+    :math:`\frac{1}{l}\sum_k (m_{ik}-\mu_i)^2`, which dropout does not cause
+    and training does not remove (test presses classified differently), and
+    which grows when a confused class's probability moves towards 0.5 on some
+    presses: the self-reinforcing queries of :func:`variance_sampling`. The
+    other candidate, the variance across passes of the press-averaged
+    prediction :math:`\mathrm{Var}_j(\frac{1}{l}\sum_k p_{ijk})`, depends on
+    whether a pass shares its dropout masks across presses (batched passes
+    do not, so it shrinks like :math:`1/l`); :math:`V^{\mathrm{MC}}_i` does
+    not. It is the class-wise MC-dropout variance used as an acquisition
+    function by Gal et al. (2017), averaged over the test presses.
+
+    Parameters
+    ----------
+    proba_samples : array-like of shape (n_samples, n_X, n_classes)
+        MC-dropout probabilities on the test presses.
+    n_instances : int, default=1
+        How many distinct classes to return.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the order of exactly tied scores.
+
+    Returns
+    -------
+    class_indices : ndarray of shape (n_instances,), int
+        The chosen classes, highest score first.
+    scores : ndarray of shape (n_classes,), float64
+        :math:`V^{\mathrm{MC}}_i` for every class (``variance_decomposition(p)["mc"]``).
+
+    References
+    ----------
+    Gal, Islam and Ghahramani (2017), "Deep Bayesian Active Learning with
+    Image Data", ICML (MC-dropout acquisition functions).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.active import mc_variance_sampling, variance_sampling
+    >>> # class 0: the presses disagree; class 1: the passes disagree most
+    >>> p = np.array([[[0.9, 0.1, 0.0], [0.1, 0.7, 0.2]],
+    ...               [[0.9, 0.1, 0.0], [0.2, 0.4, 0.4]]])
+    >>> variance_sampling(p)[0], mc_variance_sampling(p)[0]
+    (array([0]), array([1]))
+    """
+    scores = variance_decomposition(proba_samples)["mc"]
+    return _top_classes(scores, n_instances, random_state), scores
+
+
+@validate_params(_STRATEGY_PARAMS, prefer_skip_nested_validation=True)
+def margin_sampling(proba_samples, n_instances=1, *, random_state=None):
+    r"""Pick the class(es) most confused with the current decision (class-level margin).
+
+    With :math:`\mu_i = \frac{1}{nl}\sum_{j,k} p_{ijk}` the mean MC
+    probability of class :math:`i` on the test presses and
+    :math:`t = \arg\max_i \mu_i` the current decision, every other class
+    scores minus its margin to the decision, and the decision itself scores
+    the lowest possible value:
+
+    .. math::
+
+        M_i = \mu_i - \mu_t \in [-1, 0] \quad (i \ne t), \qquad M_t = -1 .
+
+    The highest score is the runner-up: the reference object the test
+    object is most easily mistaken for. Margin sampling (the smallest gap
+    between the two most probable classes) is a strong baseline across
+    active-learning benchmarks (Bahri et al. 2022). Here the unit is a class,
+    not a sample, and of the two classes that define the margin the
+    runner-up is the informative one to press: if the decision is right,
+    presses of the runner-up show the model where that class lies and move
+    the boundary away from the test object; if it is wrong and the
+    runner-up is the true class, its presses raise it directly. Pressing the
+    decision class again only adds presses like those it already favours.
+    Unlike Eq. 2 the score does not rise when a class's probability moves
+    towards 0.5 on some presses, so it does not feed on its own queries.
+
+    Parameters
+    ----------
+    proba_samples : array-like of shape (n_samples, n_X, n_classes)
+        MC-dropout probabilities on the test presses.
+    n_instances : int, default=1
+        How many distinct classes to return (the decision class comes last).
+    random_state : int, RandomState instance or None, default=None
+        Seeds the order of exactly tied scores (and of tied decisions).
+
+    Returns
+    -------
+    class_indices : ndarray of shape (n_instances,), int
+        The chosen classes, smallest margin first.
+    scores : ndarray of shape (n_classes,), float64
+        :math:`M_i` for every class.
+
+    References
+    ----------
+    Bahri, Jiang, Gupta and Nachum (2022), "Is margin all you need? An
+    extensive empirical study of active learning on tabular data",
+    arXiv:2210.03822.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.active import margin_sampling
+    >>> p = np.tile([0.5, 0.15, 0.35], (10, 4, 1))  # decision: class 0
+    >>> idx, scores = margin_sampling(p)
+    >>> idx, scores.round(2)
+    (array([2]), array([-1.  , -0.35, -0.15]))
+    """
+    mu = check_proba_samples(proba_samples).mean(axis=(0, 1))
+    rng = check_random_state(random_state)
+    top = _top_classes(mu, 1, rng)[0]
+    scores = mu - mu[top]
+    scores[top] = -1.0
+    return _top_classes(scores, n_instances, rng), scores
+
+
+@validate_params(_STRATEGY_PARAMS, prefer_skip_nested_validation=True)
+def random_sampling(proba_samples, n_instances=1, *, random_state=None):
+    """Pick class(es) uniformly at random (the paper's baseline).
+
+    Only the number of classes of ``proba_samples`` is used (its shape is
+    validated like the other strategies' input).
+
+    Parameters
+    ----------
+    proba_samples : array-like of shape (n_samples, n_X, n_classes)
+        MC-dropout probabilities on the test presses.
+    n_instances : int, default=1
+        How many distinct classes to return.
     random_state : int, RandomState instance or None, default=None
         Seeds the choice.
 
@@ -285,10 +335,17 @@ def random_sampling(learner, X_test, n_instances=1, *, n_samples=50, random_stat
         Uniform random priorities in [0, 1); ``class_indices`` are the
         classes with the highest priorities, so "highest score first"
         holds as for the other strategies.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.active import random_sampling
+    >>> p = np.full((5, 2, 4), 0.25)
+    >>> idx, _ = random_sampling(p, n_instances=4, random_state=0)
+    >>> sorted(idx.tolist())
+    [0, 1, 2, 3]
     """
-    _check_test_set(X_test)
-    n_classes = _n_classes(learner)
-    _check_n_instances(n_instances, n_classes)
+    n_classes = check_proba_samples(proba_samples).shape[-1]
     rng = check_random_state(random_state)
     scores = rng.random_sample(n_classes)
     return _top_classes(scores, n_instances, rng), scores
@@ -298,18 +355,30 @@ _STRATEGIES = {
     "entropy": entropy_sampling,
     "variance": variance_sampling,
     "bald": bald_sampling,
+    "margin": margin_sampling,
+    "mc_variance": mc_variance_sampling,
     "random": random_sampling,
 }
 
+#: The registered strategy names (:func:`get_strategy` accepts these).
+STRATEGY_NAMES = tuple(_STRATEGIES)
 
+
+@validate_params(
+    {"strategy": [StrOptions(set(_STRATEGIES)), callable]},
+    prefer_skip_nested_validation=True,
+)
 def get_strategy(strategy):
     """Return the strategy callable for a name or a callable.
 
     Parameters
     ----------
-    strategy : {"entropy", "variance", "bald", "random"} or callable
+    strategy : {"entropy", "variance", "bald", "margin", "mc_variance", \
+            "random"} or callable
         A strategy name, or a callable
-        ``strategy(learner, X_test, n_instances=1, **kwargs)``.
+        ``strategy(proba_samples, n_instances=1, *, random_state=None)``
+        returning ``(class_indices, scores)`` or ``class_indices``
+        (returned as it is).
 
     Returns
     -------
@@ -317,10 +386,9 @@ def get_strategy(strategy):
 
     Raises
     ------
-    ValueError
-        For an unknown name.
-    TypeError
-        For something that is neither a string nor callable.
+    sklearn.utils._param_validation.InvalidParameterError
+        For an unknown name or something that is neither a string nor
+        callable (a ValueError and a TypeError).
 
     Examples
     --------
@@ -328,17 +396,4 @@ def get_strategy(strategy):
     >>> get_strategy("variance").__name__
     'variance_sampling'
     """
-    if isinstance(strategy, str):
-        try:
-            return _STRATEGIES[strategy]
-        except KeyError:
-            raise ValueError(
-                f"unknown query strategy {strategy!r}; choose one of "
-                f"{sorted(_STRATEGIES)} or pass a callable."
-            ) from None
-    if callable(strategy):
-        return strategy
-    raise TypeError(
-        f"query_strategy must be a strategy name or a callable, got "
-        f"{type(strategy).__name__}."
-    )
+    return _STRATEGIES[strategy] if isinstance(strategy, str) else strategy

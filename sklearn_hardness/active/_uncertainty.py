@@ -9,8 +9,11 @@ of the BALD mutual information (our addition).
 
 from __future__ import annotations
 
+from numbers import Real
+
 import numpy as np
 from scipy.special import xlogy
+from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
 __all__ = ["class_uncertainty", "variance_decomposition", "UNCERTAINTY_KINDS"]
 
@@ -24,7 +27,7 @@ _DEFAULT_ATOL = {np.dtype(np.float16): 1e-2}
 _FALLBACK_ATOL = 1e-4
 
 
-def _check_proba_samples(proba_samples, *, atol=None, name="proba_samples"):
+def check_proba_samples(proba_samples, *, atol=None, name="proba_samples"):
     """Validate MC-dropout probabilities and return them as float64.
 
     Parameters
@@ -101,6 +104,14 @@ def _check_proba_samples(proba_samples, *, atol=None, name="proba_samples"):
     return proba
 
 
+@validate_params(
+    {
+        "proba_samples": ["array-like"],
+        "kind": [StrOptions(set(UNCERTAINTY_KINDS))],
+        "atol": [Interval(Real, 0, None, closed="left"), None],
+    },
+    prefer_skip_nested_validation=True,
+)
 def class_uncertainty(proba_samples, kind="entropy", *, atol=None):
     r"""Per-class uncertainty of Monte-Carlo-dropout predictions.
 
@@ -169,10 +180,12 @@ def class_uncertainty(proba_samples, kind="entropy", *, atol=None):
 
     Raises
     ------
+    sklearn.utils._param_validation.InvalidParameterError
+        If ``kind`` is unknown, ``atol`` negative or ``proba_samples`` not
+        array-like (a ValueError and a TypeError).
     ValueError
-        If ``kind`` is unknown, the array is not 3-D, has fewer than two
-        classes, contains NaN/inf, values outside ``[0, 1]`` or rows that do
-        not sum to one.
+        If the array is not 3-D, has fewer than two classes, contains
+        NaN/inf, values outside ``[0, 1]`` or rows that do not sum to one.
     TypeError
         If the array is not numeric.
 
@@ -180,6 +193,7 @@ def class_uncertainty(proba_samples, kind="entropy", *, atol=None):
     --------
     entropy_sampling, variance_sampling, bald_sampling :
         Strategies that pick the classes with the highest scores.
+    variance_decomposition : Eq. 2 split into its MC and between-press parts.
 
     Examples
     --------
@@ -191,11 +205,7 @@ def class_uncertainty(proba_samples, kind="entropy", *, atol=None):
     >>> class_uncertainty(p, "entropy").round(4)
     array([0.2207, 0.2884])
     """
-    if not isinstance(kind, str) or kind not in UNCERTAINTY_KINDS:
-        raise ValueError(
-            f"kind must be one of {list(UNCERTAINTY_KINDS)}, got {kind!r}."
-        )
-    p = _check_proba_samples(proba_samples, atol=atol)
+    p = check_proba_samples(proba_samples, atol=atol)
     if kind == "entropy":
         return -xlogy(p, p).mean(axis=(0, 1))
     if kind == "variance":
@@ -208,6 +218,13 @@ def class_uncertainty(proba_samples, kind="entropy", *, atol=None):
     return np.maximum(term.mean(axis=0), 0.0)
 
 
+@validate_params(
+    {
+        "proba_samples": ["array-like"],
+        "atol": [Interval(Real, 0, None, closed="left"), None],
+    },
+    prefer_skip_nested_validation=True,
+)
 def variance_decomposition(proba_samples, *, atol=None):
     r"""Split the paper's pooled variance (Eq. 2) into its MC and between-press parts.
 
@@ -256,7 +273,7 @@ def variance_decomposition(proba_samples, *, atol=None):
     >>> d["mc"], d["between"], d["total"]
     (array([0.005, 0.005]), array([0.0225, 0.0225]), array([0.0275, 0.0275]))
     """
-    p = _check_proba_samples(proba_samples, atol=atol)
+    p = check_proba_samples(proba_samples, atol=atol)
     m = p.mean(axis=0)  # (n_X, n_classes): per-press mean over passes
     mc = ((p - m) ** 2).mean(axis=(0, 1))
     between = ((m - m.mean(axis=0)) ** 2).mean(axis=0)
