@@ -165,7 +165,7 @@ def _meta(data_or_none, dataset, cfg, y):
     return np.asarray(names), hardness, unit
 
 
-def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1):
+def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True):
     """Selected frames (ConvLSTM, custom estimators) or frozen features for all presses.
 
     Parameters
@@ -179,6 +179,10 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1):
     memory : None, str or joblib.Memory, default=None
         Disk cache of the transforms (only for presets and manifests).
     verbose : int, default=1
+    scale : bool, default=True
+        Divide ConvLSTM frames by their standard deviation over all presses
+        (``cfg["input_scale"] == "std"``). The active-sampling runs pass
+        False and fit the scale on each run's training presses instead.
 
     Returns
     -------
@@ -212,7 +216,7 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1):
             _MEMO[memo_key] = (X, y, data)
             while len(_MEMO) > _MEMO_MAX:
                 _MEMO.pop(next(iter(_MEMO)))
-    if model == "convlstm" and cfg.get("input_scale") == "std":
+    if scale and model == "convlstm" and cfg.get("input_scale") == "std":
         std = float(np.std(X))
         if std > 0:
             X = X / np.float32(std)
