@@ -242,7 +242,10 @@ def run_active_sampling(
     presses predicted as the test object, dropout off), the hardness MAE and
     the per-class entropy, variance and BALD. Runs of different strategies
     with the same (test object, seed) share the test presses, the initial
-    presses, the initial weights and the oracle's order (paired).
+    presses, the initial weights and the oracle's order (paired): the
+    initial model is trained once per pair and copied into each strategy.
+    The ConvLSTM's input scale (``input_scale="std"``) is fitted on the
+    run's initial training presses.
 
     Following the paper, a run whose training loss after the initial training
     exceeds ``convergence_threshold`` (1.0 for the ConvLSTM on ``silicone5``)
@@ -280,15 +283,18 @@ def run_active_sampling(
     results_path : str, path-like or None, default=None
         JSON Lines file; every finished run is appended (and fsynced) as it
         ends. Rerunning with the same file skips the runs already there.
-    memory : None, str or joblib.Memory, default=None
-        Disk cache of frame selection and frozen features.
+    memory : None, False, str or joblib.Memory, default=None
+        Disk cache of frame selection and frozen features, computed once
+        per dataset and configuration: a folder, None for
+        ``$SKLEARN_HARDNESS_CACHE`` or ``~/.cache/sklearn_hardness``, False
+        for none.
     verbose : int, default=1
         0 silences the progress bars (they are off anyway when stderr is
         not a terminal).
     **config
         Overrides of the configuration: ``initial_epochs``,
         ``epochs_per_query``, ``max_reservoir``, ``n_initial``,
-        ``n_per_query``, ``n_iterations``, ``n_test``, ``n_mc_samples``,
+        ``n_per_query``, ``n_iterations``, ``n_test``, ``n_holdout``, ``n_mc_samples``,
         ``dropout``, ``lr``, ``batch_size``, ``frame_size``, ``color``,
         ``n_between``, ``convergence_threshold``, ``image_size``,
         ``data_seed``, ``dinov2_model``.
@@ -300,7 +306,9 @@ def run_active_sampling(
         ``strategy``, ``test_class``, ``seed``, ``config``), ``converged``,
         ``initial_train_loss``, and per iteration 0..N ``accuracy``, ``mae``,
         ``entropy``, ``variance``, ``bald`` (class means) and their
-        ``*_per_class`` values, ``predictions``; per query ``queried`` (class
+        ``*_per_class`` values, ``predictions``, and with ``n_holdout``
+        presses per class held out of the pool, ``holdout_accuracy`` and
+        ``holdout_mae`` on them (every reference object); per query ``queried`` (class
         index), ``train_loss`` and ``reservoir_size``; and provenance
         (``wall_time``, ``finished_at``, ``pid``, ``host``). See
         :func:`comparison_table` and :func:`plot_active_sampling`.
