@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import numbers
 import warnings
 
@@ -40,20 +41,44 @@ def _evaluate(learner, X_test, y_test, hardness):
     return acc, mae, pred
 
 
-def _active_run(X, y, hardness, cfg, model, n_classes, target_names, strategy, test_class, seed, key):
-    """One run: (strategy, test object, seed). Returns the record (without provenance)."""
-    from ..active import ActiveLearner, PressOracle
-    from ..models import is_converged
+def _input_scale(X_train, cfg, model):
+    """The factor that brings the run's training frames to unit standard deviation (1 if unscaled).
 
-    split_seed, oracle_seed, learner_seed, model_seed, mc_seed = _seeds(seed, test_class, 5)
+    Fitted on the initial training presses of the run only (fixed for the run),
+    never on the test object's held-out presses.
+    """
+    if model != "convlstm" or cfg.get("input_scale") is None:
+        return None
+    std = float(np.std(X_train))
+    return np.float32(1.0 / std) if std > 0 else None
+
+
+def _split(y, cfg, n_classes, test_class, split_seed):
+    """The test object's presses and ``n_holdout`` held-out presses of every class (never trained on)."""
     rng = np.random.default_rng(split_seed)
     members = np.flatnonzero(y == test_class)
     test_idx = np.sort(rng.choice(members, cfg["n_test"], replace=False))
-    pool = np.setdiff1d(np.arange(len(y)), test_idx)
+    n_hold = cfg.get("n_holdout", 0)
+    hold = []
+    if n_hold:
+        hold_rng = np.random.default_rng([split_seed, 1])  # separate stream: the test split stays as without
+        for c in range(n_classes):
+            free = np.setdiff1d(np.flatnonzero(y == c), test_idx)
+            hold.append(np.sort(hold_rng.choice(free, n_hold, replace=False)))
+    holdout_idx = np.concatenate(hold) if hold else np.empty(0, dtype=int)
+    pool = np.setdiff1d(np.arange(len(y)), np.concatenate([test_idx, holdout_idx]))
+    return test_idx, holdout_idx, pool
+
+
+def _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy):
+    """What the paired runs of one (test object, seed) share: split, oracle, initial training."""
+    from ..active import ActiveLearner, PressOracle
+
+    split_seed, oracle_seed, learner_seed, model_seed, mc_seed = _seeds(seed, test_class, 5)
+    test_idx, holdout_idx, pool = _split(y, cfg, n_classes, test_class, split_seed)
     oracle = PressOracle(pool, y[pool], random_state=oracle_seed)
     init_idx, y0 = oracle.initial(cfg["n_initial"])
-    X_test = X[test_idx]
-    y_test = np.full(len(test_idx), test_class)
+    scale = _input_scale(X[init_idx], cfg, model)
 
     learner = ActiveLearner(
         make_estimator(model, cfg, model_seed, n_classes),
@@ -67,7 +92,25 @@ def _active_run(X, y, hardness, cfg, model, n_classes, target_names, strategy, t
     )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
-        learner.fit(X[init_idx], y0)
+        learner.fit(_rows(X, init_idx, scale), y0)
+    return {"learner": learner, "oracle": oracle, "scale": scale, "test_idx": test_idx,
+            "holdout_idx": holdout_idx, "init_idx": init_idx, "mc_seed": mc_seed}
+
+
+def _rows(X, idx, scale):
+    return X[idx] if scale is None else X[idx] * scale
+
+
+def _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, state, strategy):
+    """The queries of one strategy from a trained initial state. Returns the record."""
+    from ..models import is_converged
+
+    learner, oracle, scale = state["learner"], state["oracle"], state["scale"]
+    learner.query_strategy = strategy
+    test_idx, holdout_idx, init_idx = state["test_idx"], state["holdout_idx"], state["init_idx"]
+    X_test = _rows(X, test_idx, scale)
+    y_test = np.full(len(test_idx), test_class)
+    X_hold = _rows(X, holdout_idx, scale) if len(holdout_idx) else None
     loss = learner.initial_train_loss_
     threshold = cfg["convergence_threshold"]
     converged = threshold is None or loss is None or is_converged(loss, threshold)
@@ -83,6 +126,8 @@ def _active_run(X, y, hardness, cfg, model, n_classes, target_names, strategy, t
         "predictions": [], "queried": [], "train_loss": [loss], "reservoir_size": [len(init_idx)],
         "drawn_indices": [],
     }
+    if X_hold is not None:
+        rec.update(holdout_indices=holdout_idx, holdout_accuracy=[], holdout_mae=[])
 
     def record_state(unc):
         acc, mae, pred = _evaluate(learner, X_test, y_test, hardness)
@@ -92,6 +137,10 @@ def _active_run(X, y, hardness, cfg, model, n_classes, target_names, strategy, t
         for k in ("entropy", "variance", "bald"):
             rec[k].append(float(np.mean(unc[k])))
             rec[k + "_per_class"].append(unc[k])
+        if X_hold is not None:
+            acc, mae, _ = _evaluate(learner, X_hold, y[holdout_idx], hardness)
+            rec["holdout_accuracy"].append(acc)
+            rec["holdout_mae"].append(mae)
 
     n_iter = cfg["n_iterations"] if converged else 0
     for it in range(n_iter):
@@ -100,13 +149,35 @@ def _active_run(X, y, hardness, cfg, model, n_classes, target_names, strategy, t
         record_state({k: entry[k] for k in ("entropy", "variance", "bald")})
         label = int(learner.classes_[idx[0]])
         new_idx, new_y = oracle.press(label, cfg["n_per_query"])
-        learner.teach(X[new_idx], new_y)
+        learner.teach(_rows(X, new_idx, scale), new_y)
         rec["queried"].append(label)
         rec["drawn_indices"].append(new_idx)
         rec["train_loss"].append(learner.history_[-1]["train_loss"])
         rec["reservoir_size"].append(learner.history_[-1]["reservoir_size"])
-    record_state(_uncertainty(learner, X_test, mc_seed))
+    record_state(_uncertainty(learner, X_test, state["mc_seed"]))
     return rec
+
+
+def _active_run(X, y, hardness, cfg, model, n_classes, target_names, strategy, test_class, seed, key):
+    """One run: (strategy, test object, seed), trained from scratch. Returns the record (without provenance)."""
+    state = _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy)
+    return _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, state, strategy)
+
+
+def _active_pair(X, y, hardness, cfg, model, n_classes, target_names, strategies, test_class, seed, keys):
+    """The paired runs of one (test object, seed): the initial model is trained once and copied.
+
+    Each strategy continues from a deep copy of the trained learner and of
+    the oracle (weights, optimizer state, random generators), so its record
+    equals that of :func:`_active_run` with the same arguments.
+    """
+    state = _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategies[0])
+    records = []
+    for i, strategy in enumerate(strategies):
+        run_state = state if i == len(strategies) - 1 else copy.deepcopy(state)
+        records.append(_continue_run(X, y, hardness, cfg, n_classes, target_names, test_class,
+                                     run_state, strategy))
+    return records
 
 
 def _check_strategies(strategies):
@@ -171,7 +242,10 @@ def run_active_sampling(
     presses predicted as the test object, dropout off), the hardness MAE and
     the per-class entropy, variance and BALD. Runs of different strategies
     with the same (test object, seed) share the test presses, the initial
-    presses, the initial weights and the oracle's order (paired).
+    presses, the initial weights and the oracle's order (paired): the
+    initial model is trained once per pair and copied into each strategy.
+    The ConvLSTM's input scale (``input_scale="std"``) is fitted on the
+    run's initial training presses.
 
     Following the paper, a run whose training loss after the initial training
     exceeds ``convergence_threshold`` (1.0 for the ConvLSTM on ``silicone5``)
@@ -209,15 +283,18 @@ def run_active_sampling(
     results_path : str, path-like or None, default=None
         JSON Lines file; every finished run is appended (and fsynced) as it
         ends. Rerunning with the same file skips the runs already there.
-    memory : None, str or joblib.Memory, default=None
-        Disk cache of frame selection and frozen features.
+    memory : None, False, str or joblib.Memory, default=None
+        Disk cache of frame selection and frozen features, computed once
+        per dataset and configuration: a folder, None for
+        ``$SKLEARN_HARDNESS_CACHE`` or ``~/.cache/sklearn_hardness``, False
+        for none.
     verbose : int, default=1
         0 silences the progress bars (they are off anyway when stderr is
         not a terminal).
     **config
         Overrides of the configuration: ``initial_epochs``,
         ``epochs_per_query``, ``max_reservoir``, ``n_initial``,
-        ``n_per_query``, ``n_iterations``, ``n_test``, ``n_mc_samples``,
+        ``n_per_query``, ``n_iterations``, ``n_test``, ``n_holdout``, ``n_mc_samples``,
         ``dropout``, ``lr``, ``batch_size``, ``frame_size``, ``color``,
         ``n_between``, ``convergence_threshold``, ``image_size``,
         ``data_seed``, ``dinov2_model``.
@@ -229,7 +306,9 @@ def run_active_sampling(
         ``strategy``, ``test_class``, ``seed``, ``config``), ``converged``,
         ``initial_train_loss``, and per iteration 0..N ``accuracy``, ``mae``,
         ``entropy``, ``variance``, ``bald`` (class means) and their
-        ``*_per_class`` values, ``predictions``; per query ``queried`` (class
+        ``*_per_class`` values, ``predictions``, and with ``n_holdout``
+        presses per class held out of the pool, ``holdout_accuracy`` and
+        ``holdout_mae`` on them (every reference object); per query ``queried`` (class
         index), ``train_loss`` and ``reservoir_size``; and provenance
         (``wall_time``, ``finished_at``, ``pid``, ``host``). See
         :func:`comparison_table` and :func:`plot_active_sampling`.
@@ -252,7 +331,8 @@ def run_active_sampling(
     cfg["model"] = describe_model(model)
     check_config(cfg)
     strategies, names = _check_strategies(strategies)
-    inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose)
+    # the ConvLSTM's input scale is fitted per run on its training presses (_input_scale)
+    inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose, scale=False)
     n_classes = inputs.n_classes
     test_classes = list(range(n_classes)) if test_classes is None else _check_int_list(
         test_classes, "test_classes", set(range(n_classes)))
@@ -261,27 +341,33 @@ def run_active_sampling(
     counts = np.bincount(inputs.y, minlength=n_classes)
     worst = cfg["n_initial"] + cfg["n_iterations"] * cfg["n_per_query"]
     for c in range(n_classes):
-        need = worst + (cfg["n_test"] if c in test_classes else 0)
+        need = worst + cfg["n_holdout"] + (cfg["n_test"] if c in test_classes else 0)
         if counts[c] < need:
             raise ValueError(
                 f"class {c} ({inputs.target_names[c]}) has {counts[c]} presses, but a run may need "
                 f"{need}: n_initial={cfg['n_initial']} + n_iterations={cfg['n_iterations']} x "
-                f"n_per_query={cfg['n_per_query']}" + (f" + n_test={cfg['n_test']}" if c in test_classes else "")
+                f"n_per_query={cfg['n_per_query']}"
+                + (f" + n_holdout={cfg['n_holdout']}" if cfg["n_holdout"] else "") + (f" + n_test={cfg['n_test']}" if c in test_classes else "")
                 + ". Use fewer iterations or presses, or a larger dataset."
             )
     chash = config_hash(dict(cfg, data=inputs.data_id, n_runs=None))  # n_runs picks seeds only
-    tasks = []
+    tasks, groups = [], []
     for tc in test_classes:
         for seed in seeds:
+            keys = []
             for strat, name in zip(strategies, names):
                 key = {"experiment": "active_sampling", "strategy": name, "test_class": tc,
                        "seed": seed, "config": chash}
                 tasks.append({"strategy": strat, "test_class": tc, "seed": seed, "key": key})
+                keys.append(key)
+            # one task per (test object, seed): the paired strategies share the initial training
+            groups.append({"strategies": list(strategies), "test_class": tc, "seed": seed, "keys": keys})
     common = {"X": inputs.X, "y": inputs.y, "hardness": inputs.hardness, "cfg": cfg,
               "model": model, "n_classes": n_classes,
               "target_names": [str(n) for n in inputs.target_names]}
     store = ResultsStore(results_path)
-    run_tasks(_active_run, tasks, common, store, n_jobs=n_jobs, verbose=verbose, desc="active sampling")
+    run_tasks(_active_pair, groups, common, store, n_jobs=n_jobs, verbose=verbose, desc="active sampling",
+              group_field="strategies")
     wanted = {(t["key"]["strategy"], t["test_class"], t["seed"]) for t in tasks}
     records = [
         r for r in store.records

@@ -40,6 +40,9 @@ _COMMON = {
     "n_per_query": 5,  # s
     "n_iterations": 5,  # N
     "n_test": 5,  # l, presses of the test object
+    # presses per reference object held out of every run's pool and scored after
+    # each iteration (accuracy on every class, not only the test object's); 0: none
+    "n_holdout": 0,
     "n_mc_samples": 50,  # n, MC-dropout passes per query
     "dropout": 0.2,
     "lr": 1e-3,
@@ -47,8 +50,9 @@ _COMMON = {
     "frame_size": None,  # None: MODEL_INPUTS[model]
     "color": None,
     # ConvLSTM input: frame differences are small (std ~0.03 of full scale) and
-    # the ConvLSTM barely trains on them; they are divided by their standard
-    # deviation over all presses (label-free, the same for every run). None: raw.
+    # the ConvLSTM barely trains on them; an active-sampling run divides them by
+    # their standard deviation over its initial training presses (never the test
+    # presses). None: raw.
     "input_scale": "std",
     "dinov2_model": "facebook/dinov2-small",
     "image_size": (240, 320),  # simulator frames (GelSight Mini)
@@ -145,6 +149,9 @@ def check_config(cfg):
                  "epochs_per_query", "n_runs"):
         _check_pos_int(cfg, name)
     _check_pos_int(cfg, "n_iterations", minimum=0)
+    _check_pos_int(cfg, "n_holdout", minimum=0)
+    if cfg.get("input_scale") not in (None, "std"):
+        raise ValueError(f"input_scale must be 'std' or None, got {cfg.get('input_scale')!r}.")
     _check_pos_int(cfg, "n_between", minimum=0)
     if cfg["max_reservoir"] is not None:
         _check_pos_int(cfg, "max_reservoir")

@@ -10,7 +10,9 @@ description and the transform parameters).
 
 from __future__ import annotations
 
+import hashlib
 import os
+import tempfile
 
 import joblib
 import numpy as np
@@ -150,6 +152,55 @@ def _compute(spec, dataset, cfg, frame_params, feature_params, verbose):
     return X, y
 
 
+def _code_fingerprint():
+    """Hash of the code that makes the inputs (simulator, reader, selector, features): a change invalidates the cache."""
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    h = hashlib.sha256()
+    for sub in ("datasets", "io", "preprocessing", "features"):
+        folder = os.path.join(root, sub)
+        for name in sorted(os.listdir(folder)):
+            if name.endswith(".py"):
+                with open(os.path.join(folder, name), "rb") as f:
+                    h.update(name.encode() + f.read())
+    return h.hexdigest()[:16]
+
+
+def default_cache_dir():
+    """Where prepared inputs are cached: ``$SKLEARN_HARDNESS_CACHE`` or ``~/.cache/sklearn_hardness``."""
+    return os.environ.get("SKLEARN_HARDNESS_CACHE") or os.path.join(
+        os.path.expanduser("~"), ".cache", "sklearn_hardness")
+
+
+def _cached_compute(folder, spec, dataset, cfg, frame_params, feature_params, verbose):
+    """``_compute`` through an ``.npz`` file keyed by what determines the result.
+
+    Written to a temporary file in the same folder and moved into place with
+    :func:`os.replace` (atomic), so concurrent runs never read a partial file:
+    at worst two processes compute the same inputs and one replaces the other's
+    identical file.
+    """
+    key = joblib.hash((spec, frame_params, feature_params, _code_fingerprint()))
+    path = os.path.join(folder, f"inputs-{key}.npz")
+    if os.path.exists(path):
+        try:
+            with np.load(path, allow_pickle=False) as f:
+                return f["X"], f["y"]
+        except (OSError, ValueError, KeyError):  # unreadable (e.g. disk full when written): recompute
+            pass
+    X, y = _compute(spec, dataset, cfg, frame_params, feature_params, verbose)
+    os.makedirs(folder, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=".inputs-", suffix=".npz.tmp", dir=folder)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            np.savez(f, X=X, y=np.asarray(y))
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return X, y
+
+
 def _meta(data_or_none, dataset, cfg, y):
     data = data_or_none
     n_classes = int(y.max()) + 1 if y.size else 0
@@ -165,7 +216,7 @@ def _meta(data_or_none, dataset, cfg, y):
     return np.asarray(names), hardness, unit
 
 
-def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1):
+def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True):
     """Selected frames (ConvLSTM, custom estimators) or frozen features for all presses.
 
     Parameters
@@ -176,9 +227,14 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1):
         The experiment configuration (:func:`get_config`).
     model : str or estimator
         A name in :data:`MODEL_NAMES` or an estimator (it gets the selected frames).
-    memory : None, str or joblib.Memory, default=None
-        Disk cache of the transforms (only for presets and manifests).
+    memory : None, False, str or joblib.Memory, default=None
+        Disk cache of the transforms (only for presets and manifests): a
+        folder, None for :func:`default_cache_dir`, False for none.
     verbose : int, default=1
+    scale : bool, default=True
+        Divide ConvLSTM frames by their standard deviation over all presses
+        (``cfg["input_scale"] == "std"``). The active-sampling runs pass
+        False and fit the scale on each run's training presses instead.
 
     Returns
     -------
@@ -200,11 +256,14 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1):
         if memo_key in _MEMO:
             X, y, data = _MEMO[memo_key]
         else:
-            if memory is not None:
-                mem = memory if isinstance(memory, joblib.Memory) else joblib.Memory(memory, verbose=0)
-                X, y = mem.cache(_compute, ignore=["dataset", "cfg", "verbose"])(
+            if isinstance(memory, joblib.Memory):
+                X, y = memory.cache(_compute, ignore=["dataset", "cfg", "verbose"])(
                     spec, dataset, cfg, frame_params, feature_params, verbose
                 )
+            elif memory is not False and (feature_params is None or isinstance(
+                    feature_params.get("model", ""), str)):
+                folder = default_cache_dir() if memory is None else os.fspath(memory)
+                X, y = _cached_compute(folder, spec, dataset, cfg, frame_params, feature_params, verbose)
             else:
                 X, y = _compute(spec, dataset, cfg, frame_params, feature_params, verbose)
             data = load_dataset(dataset, cfg)  # lazy videos: metadata only
@@ -212,7 +271,7 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1):
             _MEMO[memo_key] = (X, y, data)
             while len(_MEMO) > _MEMO_MAX:
                 _MEMO.pop(next(iter(_MEMO)))
-    if model == "convlstm" and cfg.get("input_scale") == "std":
+    if scale and model == "convlstm" and cfg.get("input_scale") == "std":
         std = float(np.std(X))
         if std > 0:
             X = X / np.float32(std)

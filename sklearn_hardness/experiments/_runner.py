@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import os
 import socket
+import sys
 import time
 
 import joblib
 from joblib import Parallel, delayed
 
-__all__ = ["run_tasks"]
+__all__ = ["run_tasks", "ProgressLog"]
 
 
 def _call(func, n_threads, common, task):
@@ -20,16 +21,23 @@ def _call(func, n_threads, common, task):
         torch.set_num_threads(n_threads)
     started = time.time()
     try:
-        record = func(**common, **task)
+        out = func(**common, **task)
     finally:
         if n_threads is not None:
             torch.set_num_threads(old)
-    record["key"] = task["key"]
-    record["wall_time"] = time.time() - started
-    record["finished_at"] = time.time()
-    record["pid"] = os.getpid()
-    record["host"] = socket.gethostname()
-    return record
+    # a task either yields one record ("key") or one per key of a group ("keys")
+    records = [out] if "key" in task else list(out)
+    keys = [task["key"]] if "key" in task else task["keys"]
+    if len(records) != len(keys):
+        raise RuntimeError(f"a task returned {len(records)} records for {len(keys)} keys.")
+    wall = (time.time() - started) / len(records)
+    for record, key in zip(records, keys):
+        record["key"] = key
+        record["wall_time"] = wall
+        record["finished_at"] = time.time()
+        record["pid"] = os.getpid()
+        record["host"] = socket.gethostname()
+    return records
 
 
 def _worker_threads(n_jobs):
@@ -43,24 +51,86 @@ def _worker_threads(n_jobs):
     return None if (effective == 1 or sequential) else 1
 
 
-def run_tasks(func, tasks, common, store, *, n_jobs=None, verbose=1, desc="runs"):
+def _fmt_seconds(s):
+    s = int(round(s))
+    return f"{s // 3600}h{s % 3600 // 60:02d}m{s % 60:02d}s" if s >= 3600 else (
+        f"{s // 60}m{s % 60:02d}s" if s >= 60 else f"{s}s")
+
+
+class ProgressLog:
+    """One line per finished run: done/total, elapsed time and an estimate of the rest.
+
+    Unlike a progress bar it also reports when the output is a file or a
+    pipe (a batch job's log); ``verbose=0`` silences it. The estimate is the
+    mean time per run finished in this call times the runs left.
+
+    Parameters
+    ----------
+    total : int
+        Runs in all (those already in the results file included).
+    done : int, default=0
+        Runs already finished before this call (resumed).
+    desc : str, default="runs"
+    verbose : int, default=1
+    stream : file-like or None, default=None
+        Where to write (``sys.stderr`` if None).
+    """
+
+    def __init__(self, total, done=0, desc="runs", verbose=1, stream=None):
+        self.total, self.done, self.desc, self.verbose = int(total), int(done), desc, verbose
+        self.stream = stream
+        self._start = time.perf_counter()
+        self._new = 0
+
+    def update(self, n=1):
+        """Count ``n`` finished runs and print a line."""
+        self.done += n
+        self._new += n
+        if not self.verbose:
+            return
+        elapsed = time.perf_counter() - self._start
+        left = self.total - self.done
+        eta = elapsed / self._new * left if self._new else float("nan")
+        stream = sys.stderr if self.stream is None else self.stream
+        print(f"{self.desc}: {self.done}/{self.total} runs, {_fmt_seconds(elapsed)} elapsed, "
+              f"about {_fmt_seconds(eta)} left", file=stream, flush=True)
+
+
+def run_tasks(func, tasks, common, store, *, n_jobs=None, verbose=1, desc="runs", group_field=None):
     """Run ``func(**common, **task)`` for every task whose key is not in ``store``.
 
+    A task has a ``"key"`` (``func`` returns one record) or, to share work
+    between runs, a list ``"keys"`` and an equally long list
+    ``task[group_field]`` (``func`` returns one record per key, in order);
+    keys already stored are dropped from the group before it runs.
     Results are appended to ``store`` (durably, if it has a file) in the
-    parent process as each run ends, in completion order; a rerun skips the
+    parent process as each task ends, in completion order; a rerun skips the
     keys already stored. Runs go through :class:`joblib.Parallel`, so
     ``joblib.parallel_config(backend="dask")`` moves them to a Dask cluster.
+    A line per finished run goes to stderr (:class:`ProgressLog`) unless
+    ``verbose=0``.
     """
-    from tqdm.auto import tqdm
-
     with store.writing():
-        todo = [t for t in tasks if t["key"] not in store]
+        todo, total, n_todo = [], 0, 0
+        for t in tasks:
+            if "key" in t:
+                total += 1
+                if t["key"] not in store:
+                    todo.append(t)
+                    n_todo += 1
+                continue
+            keep = [i for i, k in enumerate(t["keys"]) if k not in store]
+            total += len(t["keys"])
+            if keep:
+                todo.append(dict(t, keys=[t["keys"][i] for i in keep],
+                                 **{group_field: [t[group_field][i] for i in keep]}))
+                n_todo += len(keep)
         n_threads = _worker_threads(n_jobs)
         calls = (delayed(_call)(func, n_threads, common, t) for t in todo)
-        with tqdm(total=len(tasks), initial=len(tasks) - len(todo), desc=desc, unit="run",
-                  disable=True if not verbose else None) as bar:
-            if todo:
-                for record in Parallel(n_jobs=n_jobs, return_as="generator_unordered")(calls):
+        progress = ProgressLog(total, total - n_todo, desc=desc, verbose=verbose)
+        if todo:
+            for records in Parallel(n_jobs=n_jobs, return_as="generator_unordered")(calls):
+                for record in records:
                     store.append(record)
-                    bar.update(1)
+                progress.update(len(records))
     return store
