@@ -295,3 +295,141 @@ def test_cli_simulate_round_trip(tmp_path, fmt, exact):
             np.testing.assert_array_equal(a, b)
         else:  # lossy mp4v: close, not equal
             assert np.abs(a.astype(float) - b).mean() < 6
+
+
+# --------------------------------------------------------------------------- everyday preset
+
+import hashlib  # noqa: E402
+
+from sklearn.metrics import balanced_accuracy_score  # noqa: E402
+from sklearn.model_selection import StratifiedGroupKFold, cross_val_predict  # noqa: E402
+
+from sklearn_hardness.datasets._sim_everyday import OBJECT_KINDS, check_codec  # noqa: E402
+from sklearn_hardness.preprocessing import contact_curve  # noqa: E402
+
+# sha256 of videos, forces and targets of make_presses(p, n_per_class=2, image_size=(48, 64),
+# random_state=3), computed on main before the everyday preset was added.
+_FLAT_PRESET_HASHES = {
+    "silicone5": "207fa7d6516b8e28146e2879e77bc3b3cc06668022937818a3c696af80efe67c",
+    "shore9": "e9bbf5f1e21cc2083ff34997a219b1634c3b67f00ea388fa0594903b3520652c",
+}
+
+
+@pytest.mark.parametrize("preset", sorted(_FLAT_PRESET_HASHES))
+def test_flat_presets_are_bit_identical_to_before(preset):
+    d = make_presses(preset, n_per_class=2, image_size=(48, 64), random_state=3)
+    h = hashlib.sha256()
+    for v in d.videos:
+        h.update(v.tobytes())
+    for f in d.force:
+        h.update(np.asarray(f).tobytes())
+    h.update(d.target.tobytes())
+    assert h.hexdigest() == _FLAT_PRESET_HASHES[preset]
+
+
+def test_everyday_objects_ranks_lengths_and_groups():
+    d = make_presses("everyday", random_state=0, return_mechanics=True)
+    assert d.target_names.tolist() == ["hard", "moderate", "soft"]
+    np.testing.assert_array_equal(d.hardness, [3.0, 2.0, 1.0])
+    assert d.hardness_unit == "rank" and d.fps == 25.0
+    n_obj = len(d.objects)
+    assert n_obj == 42 and len(d.videos) == 42 * 4
+    # ~1 : 3 : 3 soft : moderate : hard objects, a few presses per object
+    per_rank = np.bincount([o["target"] for o in d.objects], minlength=3)
+    assert per_rank.tolist() == [18, 18, 6]
+    ids, counts = np.unique(d.object_id, return_counts=True)
+    assert len(ids) == n_obj and np.all(counts == 4)
+    for oid in ids:  # every press of an object has that object's rank
+        assert len(set(d.target[d.object_id == oid])) == 1
+    shapes = {o["shape"] for o in d.objects}
+    assert {"dome", "edge", "ridge", "point", "broad"} <= shapes
+    # mostly 126 frames, some 50, a few truncated to 3-7
+    n_frames = d.press_params["n_frames"]
+    assert np.mean(n_frames == 126) > 0.6 and np.any(n_frames == 50)
+    assert np.any((n_frames >= 3) & (n_frames <= 7))
+    assert set(np.unique(n_frames)) <= {126, 50, 3, 4, 5, 6, 7}
+    assert [len(f) for f in d.force] == n_frames.tolist()
+    full = n_frames == 126
+    assert np.all((d.press_params["n_before"][full] >= 30) & (d.press_params["n_before"][full] <= 40))
+    assert 0 < d.press_params["hand"].mean() < 1  # hand-held and robot presses
+    # soft presses load slowly (40+ frames for a good part), hard ones within a few frames
+    rise = np.array([np.argmax(m["force_true"]) for m in d.mechanics]) - d.press_params["n_before"]
+    soft, hard = full & (d.target == 2), full & (d.target == 0)
+    assert np.median(rise[soft]) > 2 * np.median(rise[hard])
+    assert np.percentile(rise[soft], 90) >= 40
+
+
+@pytest.fixture(scope="module")
+def everyday_curves():
+    d = make_presses("everyday", n_per_class=2, n_objects=21, image_size=(120, 160), random_state=1)
+    return d, [contact_curve(v) for v in d.videos]
+
+
+def test_everyday_matches_real_gelsight_mini_statistics(everyday_curves):
+    # Real GelSight Mini everyday-object presses (issue 10): peak mean absolute change to the first
+    # frame ~2.5-3 grey levels (hard), ~1.5-1.8 (soft); pre-contact: a jump on frame 1, a slow rise
+    # to ~1.0 over ~20 frames, dips every ~12-14 frames (codec key frames).
+    d, curves = everyday_curves
+    full = d.press_params["n_frames"] == 126
+    peak = np.array([c.max() for c in curves])
+    assert 2.0 <= np.median(peak[full & (d.target == 0)]) <= 3.5
+    assert 1.2 <= np.median(peak[full & (d.target == 2)]) <= 2.0
+    pre = np.array([c[: 30] for c, f in zip(curves, full) if f])
+    assert 0.25 <= np.median(pre[:, 1]) <= 0.8  # the jump on frame 1
+    assert 0.7 <= np.median(pre[:, 18:24]) <= 1.4  # the slow rise to ~1 grey level
+    assert np.median(pre[:, 18:24]) > 1.5 * np.median(pre[:, 1])
+    # mp4v puts a key frame every 12 frames: the change to frame 0 dips there
+    dips = (pre[:, 12] < pre[:, 11]) & (pre[:, 24] < pre[:, 23])
+    assert dips.mean() > 0.8
+    # contact starts late: the peak comes after frame 30
+    assert np.all(np.array([np.argmax(c) for c, f in zip(curves, full) if f]) > 30)
+
+
+def test_everyday_hardness_is_not_solvable_from_the_peak_change(everyday_curves):
+    d, curves = everyday_curves
+    peak = np.log([[c.max()] for c in curves])
+    pred = cross_val_predict(LogisticRegression(class_weight="balanced"), peak, d.target,
+                             groups=d.object_id, cv=StratifiedGroupKFold(3))
+    assert balanced_accuracy_score(d.target, pred) < 0.75
+
+
+def test_everyday_codec_is_real_and_optional():
+    kw = dict(n_per_class=1, n_objects=3, image_size=(48, 64), random_state=0, shuffle=False)
+    raw = make_presses("everyday", codec=None, **kw)
+    coded = make_presses("everyday", **kw)  # "auto": mp4v for everyday
+    explicit = make_presses("everyday", codec="mp4v", **kw)
+    i = int(np.argmax(raw.press_params["n_frames"]))
+    a, b = raw.videos[i].astype(int), coded.videos[i].astype(int)
+    assert a.shape == b.shape
+    diff = np.abs(a - b).mean()
+    assert 0.2 < diff < 5  # lossy, but the same press
+    np.testing.assert_array_equal(coded.videos[i], explicit.videos[i])
+    # flat presets can be compressed too; avc1 either works or says what to use
+    flat = make_presses("silicone5", n_per_class=1, image_size=(48, 64), random_state=0, codec="mjpg")
+    assert flat.videos[0].dtype == np.uint8
+    try:
+        assert check_codec("avc1") == "avc1"
+    except ValueError as exc:
+        assert "mp4v" in str(exc)
+    with pytest.raises(ValueError, match="codec must be None or one of"):
+        make_presses("everyday", codec="xvid2")
+
+
+def test_everyday_markers_option_and_kinds():
+    kw = dict(n_per_class=1, n_objects=3, image_size=(48, 64), random_state=0, codec=None)
+    plain, marked = make_presses("everyday", **kw), make_presses("everyday", markers=True, **kw)
+    # marker-less by default: the first frame is smooth; markers add dark dots
+    lap = [np.abs(np.diff(v.videos[0][0].astype(float), axis=1)).mean() for v in (plain, marked)]
+    assert lap[1] > 2 * lap[0]
+    assert set(OBJECT_KINDS) == {"hard", "moderate", "soft"}
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    (dict(class_ratio=[1, 3]), ValueError, "3 values"),
+    (dict(hardness=[1, 2, 3]), TypeError, "Unknown simulator parameter"),
+    (dict(short_fraction=0.7, truncated_fraction=0.5), ValueError, "must not exceed 1"),
+    (dict(n_objects=2), ValueError, "out of range"),
+])
+def test_everyday_bad_parameters(kwargs, error, match):
+    with pytest.raises(error, match=match):
+        make_presses("everyday", **kwargs)

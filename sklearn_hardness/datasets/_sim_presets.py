@@ -19,6 +19,8 @@ import numpy as np
 __all__ = [
     "PRESETS",
     "PARAM_SPECS",
+    "EVERYDAY_SPECS",
+    "preset_specs",
     "resolve_params",
     "shore00_to_modulus",
     "modulus_to_compliance",
@@ -154,6 +156,25 @@ PARAM_SPECS = {
     "drift_amplitude": ("float", 0.0, 0.2, "relative amplitude of the slow illumination drift"),
 }
 
+#: Extra parameters of the ``everyday`` preset (objects of many shapes in three hardness ranks).
+EVERYDAY_SPECS = {
+    "n_objects": ("int", 3, 10000, "number of objects, split over the ranks by class_ratio"),
+    "class_ratio": ("array", 1e-3, 1e3, "relative number of soft, moderate and hard objects"),
+    "soft_compliance_range": ("range", 1e-3, 100.0, "object compliance of soft objects ~ logU[lo, hi], mm/N"),
+    "moderate_compliance_range": ("range", 1e-3, 100.0, "object compliance of moderate objects ~ logU[lo, hi], mm/N"),
+    "hard_compliance_range": ("range", 1e-4, 100.0, "object compliance of hard objects ~ logU[lo, hi], mm/N"),
+    "texture_amplitude": ("array", 0.0, 2.0, "relative texture depth of soft, moderate and hard objects"),
+    "hand_fraction": ("float", 0.0, 1.0, "fraction of presses made by hand (uneven speed), the rest by a robot"),
+    "hand_speed_range": ("range", 0.1, 1000.0, "approach speed of hand presses ~ U[lo, hi], mm/s"),
+    "video_length": ("int", 8, 10000, "frames of a full recording"),
+    "short_length": ("int", 8, 10000, "frames of a short recording"),
+    "short_fraction": ("float", 0.0, 1.0, "fraction of short recordings (contact at frame 8-15)"),
+    "truncated_fraction": ("float", 0.0, 1.0, "fraction of truncated recordings of 3-7 frames"),
+    "gel_foundation_modulus": ("float", 1e-3, 1e4, "pressure per mm of gel depth (thin-layer gel), N/mm^3"),
+    "ambient_leak": ("float", 0.0, 50.0, "s.d. of the slow pre-contact change (light through the gel), grey levels"),
+    "ambient_rise_frames": ("range", 0.1, 1000.0, "time constant of the pre-contact change ~ U[lo, hi], frames"),
+}
+
 _COMMON = {
     "object_spread": 0.02,
     "press_spread": 0.03,
@@ -232,7 +253,66 @@ PRESETS = {
     ),
 }
 
+PRESETS["everyday"] = dict(
+    _COMMON,
+    description=(
+        "Everyday objects pressed onto a marker-less GelSight Mini (240x320, 25 fps), in three "
+        "hardness ranks with imbalanced counts (soft : moderate : hard ~ 1 : 3 : 3): foams, sponges, "
+        "pillows, fabrics and cotton (broad weak contacts with texture); rubber balls, erasers, fruit, "
+        "shoe soles, cables; marbles, mugs, phones, ruler edges, box corners, bottle caps, screws, "
+        "pen tips, wood (domes of many radii, edges, ridges, small sharp contacts). A few presses per "
+        "object by hand or robot at varied speed and force; mostly 126-frame videos with contact "
+        "from frame 30-40 held ~2 s, some of 50 frames, a few truncated to 3-7 frames. Calibrated "
+        "against real GelSight Mini recordings (see docs/simulator.md)."
+    ),
+    hardness=np.array([3.0, 2.0, 1.0]),
+    hardness_unit="rank",
+    n_per_class=4,
+    dome_radius=60.0,
+    gel_compliance=0.08,
+    field_of_view=18.6,
+    force_range=(1.0, 6.0),
+    speed_range=(3.0, 15.0),
+    hand_speed_range=(1.5, 8.0),
+    speed_unevenness=0.35,
+    drive_compliance=0.3,
+    force_lag_range=(0.03, 0.12),
+    deceleration=300.0,
+    hold_range=(1.6, 2.4),
+    retreat_speed_ratio=(0.8, 2.0),
+    fps=25.0,
+    frames_before_range=(30, 40),
+    force_noise=0.1,
+    contact_offset=1.5,
+    marker_spacing=1.6,
+    noise_std=0.5,
+    n_objects=42,
+    class_ratio=np.array([1.0, 3.0, 3.0]),
+    soft_compliance_range=(2.0, 8.0),
+    moderate_compliance_range=(0.2, 1.0),
+    hard_compliance_range=(0.002, 0.03),
+    texture_amplitude=np.array([0.7, 0.15, 0.05]),
+    hand_fraction=0.6,
+    video_length=126,
+    short_length=50,
+    short_fraction=0.15,
+    truncated_fraction=0.04,
+    gel_foundation_modulus=0.4,
+    ambient_leak=0.9,
+    ambient_rise_frames=(5.0, 9.0),
+)
+
 _NON_PHYSICAL = ("description", "hardness_unit", "n_per_class")
+
+
+def preset_specs(preset):
+    """The parameter specifications that apply to ``preset``."""
+    if preset == "everyday":
+        unused = ("hardness", "object_spread", "frames_after_range", "drift_amplitude")
+        specs = {k: v for k, v in PARAM_SPECS.items() if k not in unused}
+        specs.update(EVERYDAY_SPECS)
+        return specs
+    return PARAM_SPECS
 
 
 def _check_scalar(name, value, kind, low, high):
@@ -251,8 +331,8 @@ def _check_scalar(name, value, kind, low, high):
     return value
 
 
-def _check_param(name, value):
-    kind, low, high, desc = PARAM_SPECS[name]
+def _check_param(name, value, specs=PARAM_SPECS):
+    kind, low, high, desc = specs[name]
     if kind in ("float", "int", "bool"):
         return _check_scalar(name, value, kind, low, high)
     if kind in ("range", "int_range"):
@@ -301,17 +381,26 @@ def resolve_params(preset, overrides):
     """
     if not isinstance(preset, str) or preset not in PRESETS:
         raise ValueError(f"Unknown preset {preset!r}; choose one of {sorted(PRESETS)}.")
-    unknown = sorted(set(overrides) - set(PARAM_SPECS))
+    specs = preset_specs(preset)
+    unknown = sorted(set(overrides) - set(specs))
     if unknown:
         raise TypeError(
-            f"Unknown simulator parameter(s) {unknown}; valid overrides are: "
-            f"{', '.join(sorted(PARAM_SPECS))}."
+            f"Unknown simulator parameter(s) {unknown} for preset {preset!r}; valid overrides are: "
+            f"{', '.join(sorted(specs))}."
         )
     params = dict(PRESETS[preset])
     params.update(overrides)
     out = {k: params[k] for k in _NON_PHYSICAL}
-    for name in PARAM_SPECS:
-        out[name] = _check_param(name, params[name])
+    for name in specs:
+        out[name] = _check_param(name, params[name], specs)
+    if preset == "everyday":
+        out["hardness"] = params["hardness"].copy()
+        for name in ("class_ratio", "texture_amplitude"):
+            if out[name].shape != (3,):
+                raise ValueError(f"{name} must hold 3 values (soft, moderate, hard), got {out[name].tolist()}.")
+        if out["short_fraction"] + out["truncated_fraction"] > 1:
+            raise ValueError("short_fraction + truncated_fraction must not exceed 1.")
+        return out
     if preset == "shore9" and np.any(out["hardness"] >= 100):
         raise ValueError(f"Shore 00 hardness must lie in (0, 100), got {out['hardness']}.")
     # Classes are ordered by increasing hardness value (as a manifest's numeric labels sort).

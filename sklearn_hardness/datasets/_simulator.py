@@ -47,6 +47,14 @@ import numpy as np
 from sklearn.utils import Bunch, check_random_state
 
 from ._lazy import LazyVideoSequence
+from ._sim_everyday import (
+    EVERYDAY_RANKS,
+    apply_codec,
+    check_codec,
+    render_everyday_press,
+    sample_objects,
+    sample_press,
+)
 from ._sim_mechanics import simulate_press
 from ._sim_optics import SensorOptics, render_press
 from ._sim_presets import PRESETS, modulus_to_compliance, resolve_params, shore00_to_modulus
@@ -107,6 +115,26 @@ class _Simulation:
             self.sensor(int(self.sensor_idx[i])), self.mechanics[i], self.centers[i], rng,
             self.params["drift_amplitude"],
         )
+
+
+class _EverydaySimulation(_Simulation):
+    """An ``everyday`` dataset: per-press objects of many shapes, optional codec."""
+
+    def __init__(self, params, image_size, markers, sensor_seeds, sensor_idx, mechanics, centers,
+                 render_seeds, objects, object_idx, codec):
+        super().__init__(params, image_size, markers, sensor_seeds, sensor_idx, mechanics, centers,
+                         render_seeds)
+        self.objects = objects
+        self.object_idx = object_idx
+        self.codec = codec
+
+    def render(self, i):
+        rng = np.random.default_rng(self.render_seeds[i])
+        video = render_everyday_press(
+            self.sensor(int(self.sensor_idx[i])), self.objects[int(self.object_idx[i])],
+            self.mechanics[i], self.centers[i], rng, self.params,
+        )
+        return video if self.codec is None else apply_codec(video, self.codec, self.params["fps"])
 
 
 class SimulatedPressVideos(LazyVideoSequence):
@@ -190,7 +218,7 @@ def _descr(preset, params, n, image_size):
         "",
         params["description"],
         "",
-        f"Presses: {n} ({len(params['hardness'])} objects); frames {image_size[0]}x{image_size[1]} RGB "
+        f"Presses: {n} ({params.get('n_objects', len(params['hardness']))} objects); frames {image_size[0]}x{image_size[1]} RGB "
         f"uint8 at {params['fps']:g} fps.",
         f"Hardness ({params['hardness_unit']}): {', '.join(f'{h:g}' for h in params['hardness'])}.",
         "",
@@ -210,8 +238,8 @@ def _descr(preset, params, n, image_size):
     return "\n".join(lines)
 
 
-def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_size=(240, 320),
-                 shuffle=True, return_mechanics=False, random_state=None, **physics):
+def make_presses(preset="silicone5", n_per_class=None, *, markers=None, image_size=(240, 320),
+                 shuffle=True, return_mechanics=False, codec="auto", random_state=None, **physics):
     """Simulate GelSight press videos of objects of known hardness.
 
     A physics-based stand-in for the paper's datasets (Sec. III-A): gel and
@@ -222,17 +250,26 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_si
 
     Parameters
     ----------
-    preset : {"silicone5", "shore9"}, default="silicone5"
+    preset : {"silicone5", "shore9", "everyday"}, default="silicone5"
         ``"silicone5"``: five silicone objects of compliance 1.13, 1.02,
         0.79, 0.68 and 0.44 mm/N pressed by a robot with a GelSight Mini at
         25 fps, ``F_push ~ U[1, 5]`` N, ``v_push ~ U[20, 50]`` mm/s, 91 presses
         per object. ``"shore9"``: Yuan et al.'s flat samples of Shore 00 8,
         17, 27, 46, 62, 73, 81, 87, 95 pressed by hand (slow, uneven), 30 fps,
-        40 presses per object.
+        40 presses per object. ``"everyday"``: 42 household objects of many
+        shapes and textures (domes, edges, ridges, pen tips, foams, fabrics)
+        in three hardness ranks ``hard``, ``moderate``, ``soft`` (objects
+        ~ 3 : 3 : 1), 4 presses per object by hand or robot, marker-less
+        GelSight Mini videos of mostly 126 frames with contact from frame
+        30-40, passed through the ``mp4v`` codec; calibrated against real
+        recordings (``docs/simulator.md``). Classes are the ranks, and
+        ``object_id`` says which object each press is of: evaluate it with
+        folds grouped by object.
     n_per_class : int or None, default=None
         Presses per object; ``None`` uses the preset's number.
-    markers : bool, default=True
-        Whether the gel carries dark markers.
+    markers : bool or None, default=None
+        Whether the gel carries dark markers; ``None``: the preset's default
+        (markers for ``silicone5`` and ``shore9``, none for ``everyday``).
     image_size : (int, int), default=(240, 320)
         Frame height and width in pixels (GelSight Mini streams 240x320).
         The field of view stays the same; smaller images are coarser.
@@ -244,6 +281,12 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_si
         ``gel_indentation``, ``object_indentation``, ``contact_radius``
         (all in s, N, mm) and ``lateral_shift`` (marker spread at the
         contact edge, mm).
+    codec : {"auto", "mp4v", "avc1", "mjpg"} or None, default="auto"
+        Pass every video through this real lossy codec (OpenCV writes a
+        temporary file and reads it back), so compression noise is real.
+        ``"avc1"`` (H.264) only where the local OpenCV build can write it
+        (otherwise a ``ValueError`` says so). ``"auto"``: ``"mp4v"`` for
+        ``everyday``, None (uncompressed) for the other presets.
     random_state : int, RandomState instance, Generator or None, default=None
         Seed of everything random. The same seed gives identical videos,
         forces and parameters, whatever order the videos are read in.
@@ -275,7 +318,10 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_si
         force, timestamps : list of ndarray of shape (T_i,)
             Recorded force (N, with sensor noise) and frame times (s).
         object_id : ndarray of str
-            Which physical object was pressed.
+            Which physical object was pressed (``everyday``: e.g.
+            ``"everyday-07-eraser"``).
+        objects : list of dict, only for ``everyday``
+            Each object's rank, kind, shape, radius, compliance and texture.
         press_params : dict of ndarray of shape (n_samples,)
             Sampled press parameters: ``F_push``, ``v_push``, ``force_lag``,
             ``hold``, ``retreat_speed``, ``compliance_object`` (this press),
@@ -311,8 +357,13 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_si
     """
     params = resolve_params(preset, physics)
     image_size = _check_image_size(image_size)
+    if markers is None:
+        markers = preset != "everyday"
     if not isinstance(markers, (bool, np.bool_)):
-        raise TypeError(f"markers must be a bool, got {markers!r}.")
+        raise TypeError(f"markers must be a bool or None, got {markers!r}.")
+    if isinstance(codec, str) and codec == "auto":
+        codec = "mp4v" if preset == "everyday" else None
+    codec = check_codec(codec)
     if n_per_class is None:
         n_per_class = params["n_per_class"]
     if isinstance(n_per_class, (bool, np.bool_)) or not isinstance(n_per_class, (numbers.Integral, np.integer)):
@@ -321,10 +372,13 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_si
         raise ValueError(f"n_per_class={n_per_class} is out of range: it must lie in [1, 100000].")
     n_per_class = int(n_per_class)
 
+    ss = _seed_sequence(random_state)
+    if preset == "everyday":
+        return _make_everyday(params, n_per_class, bool(markers), image_size, shuffle,
+                              return_mechanics, codec, ss)
     hardness = params["hardness"]
     n_classes = len(hardness)
     n = n_classes * n_per_class
-    ss = _seed_sequence(random_state)
     ss_sensor, ss_object, ss_press, ss_order = ss.spawn(4)
 
     # Sensors: gel compliance and dome radius vary a little between sensors.
@@ -384,6 +438,8 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_si
 
     sim = _Simulation(params, image_size, bool(markers), sensor_seeds, pp["sensor"], mechanics,
                       centers, render_seeds)
+    if codec is not None:
+        sim = _CodecSimulation(sim, codec)
     unit = params["hardness_unit"]
     names = np.array([f"{h:g}" for h in hardness])
     data = Bunch(
@@ -399,6 +455,76 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=True, image_si
         fps=params["fps"],
         params={k: v for k, v in params.items()},
         DESCR=_descr(preset, params, n, image_size),
+    )
+    if return_mechanics:
+        data.mechanics = [{k: v.copy() for k, v in m.items() if k != "force"} for m in mechanics]
+    return data
+
+
+class _CodecSimulation:
+    """A flat-preset simulation whose videos pass through a lossy codec."""
+
+    def __init__(self, sim, codec):
+        self.sim = sim
+        self.codec = codec
+        self.image_size = sim.image_size
+
+    def render(self, i):
+        return apply_codec(self.sim.render(i), self.codec, self.sim.params["fps"])
+
+
+def _make_everyday(params, n_per_class, markers, image_size, shuffle, return_mechanics, codec, ss):
+    """``make_presses("everyday")``: objects of many shapes, a few presses each."""
+    ss_sensor, ss_object, ss_press, ss_order = ss.spawn(4)
+    n_sensors = params["n_sensors"]
+    sensor_rng = np.random.default_rng(ss_sensor)
+    gel_c = params["gel_compliance"] * np.exp(params["sensor_spread"] * sensor_rng.standard_normal(n_sensors))
+    sensor_seeds = [_seed_int(s) for s in ss_sensor.spawn(n_sensors)]
+    objects = sample_objects(np.random.default_rng(ss_object), params["n_objects"],
+                             params["class_ratio"], params)
+    object_idx = np.repeat(np.arange(len(objects)), n_per_class)
+    n = len(object_idx)
+    if shuffle:
+        object_idx = object_idx[np.random.default_rng(ss_order).permutation(n)]
+    target = np.array([objects[k]["target"] for k in object_idx], dtype=int)
+
+    keys = ["F_push", "v_push", "force_lag", "hold", "retreat_speed", "compliance_object",
+            "compliance_gel", "dome_radius", "sensor", "offset_x", "offset_y", "n_before",
+            "n_after", "force_peak", "t_contact", "t_trigger", "t_release", "hand", "n_frames"]
+    pp = {k: np.empty(n) for k in keys}
+    mechanics, centers, render_seeds = [], [], []
+    for i, (k, press_ss) in enumerate(zip(object_idx, ss_press.spawn(n))):
+        mech_ss, render_ss = press_ss.spawn(2)
+        rng = np.random.default_rng(mech_ss)
+        s = int(rng.integers(n_sensors))
+        frames, row = sample_press(rng, objects[k], c_gel=gel_c[s], params=params)
+        mechanics.append(frames)
+        centers.append((float(row["offset_x"]), float(row["offset_y"])))
+        render_seeds.append(_seed_int(render_ss))
+        row["sensor"] = s
+        for key in keys:
+            pp[key][i] = row[key]
+    for key in ("sensor", "n_before", "n_after", "n_frames"):
+        pp[key] = pp[key].astype(int)
+    pp["hand"] = pp["hand"].astype(bool)
+
+    sim = _EverydaySimulation(params, image_size, markers, sensor_seeds, pp["sensor"], mechanics,
+                              centers, render_seeds, objects, object_idx, codec)
+    names = np.array([name for name, _ in EVERYDAY_RANKS])
+    data = Bunch(
+        videos=SimulatedPressVideos(sim.render, list(range(n))),
+        target=target,
+        target_names=names,
+        hardness=params["hardness"].copy(),
+        hardness_unit=params["hardness_unit"],
+        force=[m["force"].copy() for m in mechanics],
+        timestamps=[m["time"].copy() for m in mechanics],
+        object_id=np.array([f"everyday-{k:02d}-{objects[k]['kind'].replace(' ', '-')}" for k in object_idx]),
+        objects=[dict(o) for o in objects],
+        press_params=pp,
+        fps=params["fps"],
+        params={k: v for k, v in params.items()},
+        DESCR=_descr("everyday", params, n, image_size),
     )
     if return_mechanics:
         data.mechanics = [{k: v.copy() for k, v in m.items() if k != "force"} for m in mechanics]
