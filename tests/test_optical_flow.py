@@ -6,28 +6,14 @@ import joblib
 import numpy as np
 import pytest
 from sklearn.base import clone
-from sklearn.exceptions import NotFittedError, SkipTestWarning
+from sklearn.exceptions import NotFittedError
+from sklearn.utils._param_validation import InvalidParameterError
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
-from sklearn.utils import estimator_checks as ec
 
 from sklearn_hardness.features import OpticalFlowFeatures
 
-# scikit-learn's common checks that do not feed 2-D data (our input is 5-D, see
-# frames_tags); the data-dependent ones have 5-D equivalents below.
-DATA_FREE_CHECKS = [
-    ec.check_estimator_cloneable,
-    ec.check_estimator_tags_renamed,
-    ec.check_valid_tag_types,
-    ec.check_estimator_repr,
-    ec.check_no_attributes_set_in_init,
-    ec.check_do_not_raise_errors_in_init_or_set_params,
-    ec.check_mixin_order,
-    ec.check_parameters_default_constructible,
-    ec.check_get_params_invariance,
-    ec.check_set_params,
-]
-
+# scikit-learn's common checks and their 5-D equivalents run in tests/test_common.py.
 
 def texture(shape, rng, sigma=1.5):
     """Smooth random texture in [0, 1] with plenty of corners."""
@@ -55,24 +41,6 @@ def X_small():
     rng = np.random.default_rng(1)
     shifts = [(0.5, 0.0), (0.0, -0.8), (1.0, 0.6)]
     return np.stack([translating_video(s, k=3, size=(24, 28), rng=rng) for s in shifts])
-
-
-@pytest.mark.parametrize("check", DATA_FREE_CHECKS, ids=lambda c: c.__name__)
-def test_sklearn_data_free_checks(check):
-    check("OpticalFlowFeatures", OpticalFlowFeatures(n_features=5))
-
-
-# Our tags say the input is not 2-D, so scikit-learn yields only the checks
-# that apply (and warns, at collection time, that it skips the others).
-with warnings.catch_warnings():
-    warnings.simplefilter("ignore", SkipTestWarning)
-    _sklearn_checks = ec.parametrize_with_checks([OpticalFlowFeatures(n_features=5)])
-
-
-@_sklearn_checks
-def test_parametrize_with_checks(estimator, check):
-    # With two_d_array=False scikit-learn only runs the checks that apply.
-    check(estimator)
 
 
 def test_shapes_and_names(X_small):
@@ -225,13 +193,13 @@ def test_bad_inputs(X_small):
     with pytest.raises(TypeError, match="numeric"):
         of.transform(np.array(["a"], dtype=object))
     for params, exc, msg in [
-        ({"n_features": 0}, ValueError, "n_features"),
-        ({"quality_level": 1.5}, ValueError, "quality_level"),
-        ({"win_size": (2, 2)}, ValueError, "win_size"),
-        ({"reference": "last"}, ValueError, "reference"),
-        ({"fill_lost": "nan"}, ValueError, "fill_lost"),
-        ({"value_range": (1, 0)}, ValueError, "value_range"),
-        ({"include_valid": "yes"}, TypeError, "include_valid"),
+        ({"n_features": 0}, InvalidParameterError, "'n_features' parameter"),
+        ({"quality_level": 1.5}, InvalidParameterError, "'quality_level' parameter"),
+        ({"win_size": (2, 2)}, InvalidParameterError, "'win_size' parameter"),
+        ({"reference": "last"}, InvalidParameterError, "'reference' parameter"),
+        ({"fill_lost": "nan"}, InvalidParameterError, "'fill_lost' parameter"),
+        ({"value_range": (1, 0)}, InvalidParameterError, "'value_range' parameter"),
+        ({"include_valid": "yes"}, InvalidParameterError, "'include_valid' parameter"),
     ]:
         with pytest.raises(exc, match=msg):
             OpticalFlowFeatures(**params).fit(X_small)

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import csv
 import os
+from numbers import Integral
 from pathlib import Path
 
 import numpy as np
 from sklearn.utils import Bunch
+from sklearn.utils._param_validation import Interval, validate_params
 
 from ..io import read_video
 from ._lazy import LazyVideoSequence
@@ -52,6 +54,13 @@ def _float_or_raise(value, column, row_number, manifest):
     return out
 
 
+@validate_params(
+    {
+        "manifest": [str, os.PathLike],
+        "cache_size": [Interval(Integral, 0, None, closed="left")],
+    },
+    prefer_skip_nested_validation=True,
+)
 def load_press_videos(manifest, *, cache_size=0):
     """Load press recordings listed in a CSV manifest.
 

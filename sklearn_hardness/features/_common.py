@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 
 _GREY_WEIGHTS = np.array([0.299, 0.587, 0.114], dtype=np.float32)  # ITU-R BT.601, RGB order
@@ -14,7 +12,8 @@ def frames_tags(tags):
 
     The input is 5-D, not a 2-D table, so ``input_tags.two_d_array`` is
     False: scikit-learn's common checks that feed 2-D data do not apply
-    (the tests run the data-independent ones and equivalents on 5-D data).
+    (``tests/test_common.py`` runs the data-independent ones and
+    equivalents on 5-D data).
     The output is float32 whatever the input dtype.
     """
     tags.input_tags.two_d_array = False
@@ -23,24 +22,6 @@ def frames_tags(tags):
     if tags.transformer_tags is not None:
         tags.transformer_tags.preserves_dtype = ["float32"]
     return tags
-
-
-def check_value_range(value_range):
-    """Validate a ``value_range`` parameter: None or (low, high) with low < high."""
-    if value_range is None:
-        return None
-    if (
-        not isinstance(value_range, (tuple, list))
-        or len(value_range) != 2
-        or not all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in value_range)
-        or not np.all(np.isfinite(value_range))
-        or not value_range[0] < value_range[1]
-    ):
-        raise ValueError(
-            f"value_range must be None (per-sample min-max scaling) or a pair (low, high) of "
-            f"finite numbers with low < high, e.g. (0, 1) or (-1, 1); got {value_range!r}."
-        )
-    return float(value_range[0]), float(value_range[1])
 
 
 def sample_range(X, value_range):
@@ -52,7 +33,7 @@ def sample_range(X, value_range):
     """
     n = X.shape[0]
     if value_range is not None:
-        lo, hi = check_value_range(value_range)
+        lo, hi = float(value_range[0]), float(value_range[1])  # validated by the estimator's constraints
         return np.full(n, lo, np.float32), np.full(n, hi, np.float32)
     flat = X.reshape(n, -1)
     lo = flat.min(axis=1).astype(np.float32)
@@ -74,7 +55,7 @@ def to_uint8_grey(X, value_range):
     Works one sample at a time, so the only large allocation is the uint8
     output (a quarter of one channel of the input).
     """
-    fixed = check_value_range(value_range)
+    fixed = value_range
     out = np.empty(X.shape[:4], dtype=np.uint8)
     for i in range(X.shape[0]):
         g = to_grey(X[i : i + 1])[0]  # a new array: scaled in place below

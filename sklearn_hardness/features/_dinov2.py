@@ -4,16 +4,18 @@ from __future__ import annotations
 
 import copy
 import importlib
-import numbers
 import os
+from numbers import Integral
 
 import numpy as np
 import torch
-from sklearn.base import BaseEstimator, TransformerMixin
+from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
+from sklearn.utils._param_validation import Interval, InvalidParameterError, StrOptions
 from sklearn.utils.validation import check_is_fitted
 
-from ..utils._validation import check_frames_array, check_positive_int
-from ._common import check_value_range, frames_tags, sample_range
+from ..utils._param_validation import Pair, ValueRange
+from ..utils._validation import check_frames_array
+from ._common import frames_tags, sample_range
 
 __all__ = ["DINOv2Features"]
 
@@ -145,6 +147,20 @@ class DINOv2Features(TransformerMixin, BaseEstimator):
     (2, 192)
     """
 
+    _parameter_constraints: dict = {
+        "model": [str, os.PathLike, torch.nn.Module],
+        "token": [StrOptions(set(_TOKENS))],
+        "batch_size": [Interval(Integral, 1, None, closed="left")],
+        "device": [str, torch.device],
+        "image_size": [
+            Interval(Integral, 1, None, closed="left"),
+            Pair(Interval(Integral, 1, None, closed="left"), "(height, width)"),
+        ],
+        "value_range": [None, ValueRange()],
+        "local_files_only": ["boolean"],
+        "dtype": [StrOptions(set(_DTYPES)), torch.dtype],
+    }
+
     def __init__(
         self,
         model="facebook/dinov2-small",
@@ -166,19 +182,8 @@ class DINOv2Features(TransformerMixin, BaseEstimator):
         self.local_files_only = local_files_only
         self.dtype = dtype
 
-    # ------------------------------------------------------------------ params
-    def _check_params(self):
-        if self.token not in _TOKENS:
-            raise ValueError(f"token must be one of {_TOKENS}, got {self.token!r}.")
-        check_positive_int(self.batch_size, "batch_size")
-        check_value_range(self.value_range)
-        if not isinstance(self.local_files_only, (bool, np.bool_)):
-            raise TypeError(f"local_files_only must be True or False, got {self.local_files_only!r}.")
-        _resolve_dtype(self.dtype)
-        _resolve_device(self.device)
-        _image_size_pair(self.image_size)
-
     # --------------------------------------------------------------- sklearn API
+    @_fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
         """Load and freeze the backbone and remember the number and shape of frames.
 
@@ -201,7 +206,6 @@ class DINOv2Features(TransformerMixin, BaseEstimator):
         OSError
             If the model cannot be loaded (e.g. offline and not cached).
         """
-        self._check_params()
         X = check_frames_array(X, name="X")
         device = _resolve_device(self.device)
         dtype = _resolve_dtype(self.dtype)
@@ -234,7 +238,6 @@ class DINOv2Features(TransformerMixin, BaseEstimator):
         X_out : ndarray of shape (n_samples, n_features_out_), float32
         """
         check_is_fitted(self)
-        self._check_params()
         X = check_frames_array(X, name="X", n_frames=self.n_frames_in_, frame_shape=self.frame_shape_in_)
         n, k = X.shape[:2]
         lo, hi = sample_range(X, self.value_range)
@@ -342,39 +345,37 @@ def _last_hidden(out):
 
 
 def _resolve_device(device):
+    """A str or torch.device (checked by the constraints) -> an available torch.device."""
     if isinstance(device, torch.device):
         return device
-    if not isinstance(device, str):
-        raise TypeError(f"device must be 'cpu', 'cuda', 'auto' or a torch device string, got {device!r}.")
     if device == "auto":
         return torch.device("cuda" if torch.cuda.is_available() else "cpu")
     try:
         dev = torch.device(device)
     except RuntimeError as exc:
-        raise ValueError(f"device must be 'cpu', 'cuda', 'auto' or a torch device string, got {device!r}.") from exc
+        raise InvalidParameterError(
+            f"The 'device' parameter of DINOv2Features must be 'cpu', 'cuda', 'auto' or a torch "
+            f"device string. Got {device!r} instead."
+        ) from exc
     if dev.type == "cuda" and not torch.cuda.is_available():
         raise ValueError(f"device={device!r} was asked for but CUDA is not available; use 'cpu' or 'auto'.")
     return dev
 
 
 def _resolve_dtype(dtype):
+    """A dtype name or torch.dtype (checked by the constraints) -> a supported torch.dtype."""
     if isinstance(dtype, torch.dtype):
         if dtype not in _DTYPES.values():
-            raise ValueError(f"dtype must be float32, float16 or bfloat16, got {dtype}.")
+            raise InvalidParameterError(
+                "The 'dtype' parameter of DINOv2Features must be torch.float32, torch.float16 or "
+                f"torch.bfloat16. Got {dtype} instead."
+            )
         return dtype
-    if dtype not in _DTYPES:
-        raise ValueError(f"dtype must be one of {tuple(_DTYPES)} or a torch dtype, got {dtype!r}.")
     return _DTYPES[dtype]
 
 
 def _image_size_pair(image_size):
-    size = (image_size, image_size) if isinstance(image_size, numbers.Integral) else image_size
-    if (
-        not isinstance(size, (tuple, list))
-        or len(size) != 2
-        or not all(isinstance(s, numbers.Integral) and not isinstance(s, bool) and s >= 1 for s in size)
-    ):
-        raise ValueError(f"image_size must be a positive int or a pair (height, width), got {image_size!r}.")
+    size = (image_size, image_size) if isinstance(image_size, Integral) else image_size
     return int(size[0]), int(size[1])
 
 

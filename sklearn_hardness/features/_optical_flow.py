@@ -2,18 +2,20 @@
 
 from __future__ import annotations
 
-import numbers
 import warnings
+from numbers import Integral, Real
 
 import cv2
 import numpy as np
 from joblib import Parallel, delayed
-from sklearn.base import BaseEstimator, TransformerMixin
+from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
 from sklearn.utils import Bunch
+from sklearn.utils._param_validation import Interval, StrOptions
 from sklearn.utils.validation import check_is_fitted
 
-from ..utils._validation import check_frames_array, check_positive_int
-from ._common import frames_tags, to_uint8_grey, check_value_range
+from ..utils._param_validation import Pair, ValueRange
+from ..utils._validation import check_frames_array
+from ._common import frames_tags, to_uint8_grey
 
 __all__ = ["OpticalFlowFeatures"]
 
@@ -147,6 +149,23 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
     2.0
     """
 
+    _parameter_constraints: dict = {
+        "n_features": [Interval(Integral, 1, None, closed="left")],
+        "quality_level": [Interval(Real, 0, 1, closed="right")],
+        "min_distance": [Interval(Real, 0, None, closed="left")],
+        "block_size": [Interval(Integral, 1, None, closed="left")],
+        "win_size": [Pair(Interval(Integral, 3, None, closed="left"), "(width, height)")],
+        "max_level": [Interval(Integral, 0, None, closed="left")],
+        "max_iter": [Interval(Integral, 1, None, closed="left")],
+        "epsilon": [Interval(Real, 0, None, closed="neither")],
+        "reference": [StrOptions(set(_REFERENCES))],
+        "include_positions": ["boolean"],
+        "include_valid": ["boolean"],
+        "fill_lost": [StrOptions(set(_FILL_LOST))],
+        "value_range": [None, ValueRange()],
+        "n_jobs": [Integral, None],
+    }
+
     def __init__(
         self,
         n_features=500,
@@ -180,35 +199,8 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
         self.value_range = value_range
         self.n_jobs = n_jobs
 
-    # ------------------------------------------------------------------ params
-    def _check_params(self):
-        check_positive_int(self.n_features, "n_features")
-        if not isinstance(self.quality_level, numbers.Real) or not 0 < self.quality_level <= 1:
-            raise ValueError(f"quality_level must be a number in (0, 1], got {self.quality_level!r}.")
-        if not isinstance(self.min_distance, numbers.Real) or self.min_distance < 0:
-            raise ValueError(f"min_distance must be a number >= 0, got {self.min_distance!r}.")
-        check_positive_int(self.block_size, "block_size")
-        ws = self.win_size
-        if (
-            not isinstance(ws, (tuple, list))
-            or len(ws) != 2
-            or not all(isinstance(v, numbers.Integral) and not isinstance(v, bool) and v >= 3 for v in ws)
-        ):
-            raise ValueError(f"win_size must be a pair of integers >= 3 (width, height), got {ws!r}.")
-        check_positive_int(self.max_level, "max_level", minimum=0)
-        check_positive_int(self.max_iter, "max_iter")
-        if not isinstance(self.epsilon, numbers.Real) or self.epsilon <= 0:
-            raise ValueError(f"epsilon must be a positive number, got {self.epsilon!r}.")
-        if self.reference not in _REFERENCES:
-            raise ValueError(f"reference must be one of {_REFERENCES}, got {self.reference!r}.")
-        if self.fill_lost not in _FILL_LOST:
-            raise ValueError(f"fill_lost must be one of {_FILL_LOST}, got {self.fill_lost!r}.")
-        for name in ("include_positions", "include_valid"):
-            if not isinstance(getattr(self, name), (bool, np.bool_)):
-                raise TypeError(f"{name} must be True or False, got {getattr(self, name)!r}.")
-        check_value_range(self.value_range)
-
     # --------------------------------------------------------------- sklearn API
+    @_fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
         """Check the parameters and remember the number and shape of frames.
 
@@ -223,7 +215,6 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
         -------
         self : OpticalFlowFeatures
         """
-        self._check_params()
         X = _check_X(X)
         self.n_frames_in_ = int(X.shape[1])
         self.frame_shape_in_ = tuple(int(s) for s in X.shape[2:])
@@ -249,7 +240,6 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
             corners found in the first frame.
         """
         check_is_fitted(self)
-        self._check_params()
         X = _check_X(X, n_frames=self.n_frames_in_, frame_shape=self.frame_shape_in_)
         grey = to_uint8_grey(X, self.value_range)
         kwargs = dict(

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import os
 import re
+from numbers import Integral, Real
 from pathlib import Path
 
 import cv2
 import numpy as np
+from sklearn.utils._param_validation import Interval, validate_params
 
 from ..utils._validation import check_video
 
@@ -92,6 +94,13 @@ def _read_container(path, max_frames):
     return np.stack(frames)
 
 
+@validate_params(
+    {
+        "path": [str, os.PathLike],
+        "max_frames": [Interval(Integral, 1, None, closed="left"), None],
+    },
+    prefer_skip_nested_validation=True,
+)
 def read_video(path, *, max_frames=None):
     """Read a press video as a ``(T, H, W, 3)`` ``uint8`` RGB array.
 
@@ -134,8 +143,6 @@ def read_video(path, *, max_frames=None):
     path = Path(os.fspath(path))
     if not path.exists():
         raise FileNotFoundError(f"Video not found: '{path}'.")
-    if max_frames is not None and max_frames < 1:
-        raise ValueError(f"max_frames must be >= 1 or None, got {max_frames}.")
     if path.is_dir():
         return _read_image_folder(path, max_frames)
     if path.suffix.lower() == ".npy":
@@ -150,6 +157,15 @@ def read_video(path, *, max_frames=None):
     return _read_container(path, max_frames)
 
 
+@validate_params(
+    {
+        "path": [str, os.PathLike],
+        "frames": ["array-like"],
+        "fps": [Interval(Real, 0, None, closed="neither")],
+        "fourcc": [str, None],
+    },
+    prefer_skip_nested_validation=True,
+)
 def write_video(path, frames, fps=25.0, *, fourcc=None):
     """Write frames to a video file or a folder of PNG images.
 
@@ -184,8 +200,6 @@ def write_video(path, frames, fps=25.0, *, fourcc=None):
         raise TypeError(f"frames must be uint8 to be written, got {frames.dtype}.")
     if frames.shape[-1] == 1:
         frames = np.repeat(frames, 3, axis=-1)
-    if not fps or fps <= 0:
-        raise ValueError(f"fps must be positive, got {fps}.")
     suffix = path.suffix.lower()
     if suffix == ".npy":
         path.parent.mkdir(parents=True, exist_ok=True)

@@ -6,6 +6,7 @@ from collections.abc import Mapping
 
 import numpy as np
 from sklearn.metrics import make_scorer
+from sklearn.utils._param_validation import validate_params
 
 __all__ = ["hardness_mae", "make_hardness_mae_scorer"]
 
@@ -68,6 +69,16 @@ def _to_hardness(y, labels, values, name):
     return values[order[pos]]
 
 
+@validate_params(
+    {
+        "y_true": ["array-like"],
+        "y_pred": ["array-like"],
+        "hardness": ["array-like", Mapping],
+        "classes": ["array-like", None],
+        "sample_weight": ["array-like", None],
+    },
+    prefer_skip_nested_validation=True,
+)
 def hardness_mae(y_true, y_pred, hardness, *, classes=None, sample_weight=None):
     """Mean absolute error between true and predicted hardness values.
 
@@ -133,6 +144,10 @@ def hardness_mae(y_true, y_pred, hardness, *, classes=None, sample_weight=None):
     return float(np.average(np.abs(h_true - h_pred), weights=sample_weight))
 
 
+@validate_params(
+    {"hardness": ["array-like", Mapping], "classes": ["array-like", None]},
+    prefer_skip_nested_validation=True,
+)
 def make_hardness_mae_scorer(hardness, *, classes=None):
     """A scorer for :func:`hardness_mae`, for ``cross_val_score`` and ``GridSearchCV``.
 

@@ -1,14 +1,14 @@
-"""Input validation for press videos and selected-frame arrays.
+"""Data validation for press videos and selected-frame arrays.
 
-Every public estimator validates its input through these helpers so that bad
+Every public estimator validates its *data* through these helpers so that bad
 input gets the same clear message everywhere: what is wrong, and with which
-video (by index).
+video (by index). Parameters are validated by scikit-learn's machinery
+(``_parameter_constraints`` and ``validate_params``), not here.
 """
 
 from __future__ import annotations
 
 import numbers
-from collections.abc import Sequence
 
 import numpy as np
 
@@ -217,16 +217,14 @@ def check_frames_array(X, *, name="X", n_frames=None, frame_shape=None, dtype=np
 
 
 def check_positive_int(value, name, *, minimum=1):
-    """Check that ``value`` is an integer >= ``minimum`` and return it as int."""
+    """Check that ``value`` is an integer >= ``minimum`` and return it as int.
+
+    Deprecated for parameters: declare ``Interval(Integral, minimum, None,
+    closed="left")`` in ``_parameter_constraints`` instead. Kept only while
+    ``models/`` still imports it.
+    """
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{name} must be an integer, got {value!r}.")
     if value < minimum:
         raise ValueError(f"{name} must be >= {minimum}, got {value}.")
     return int(value)
-
-
-def is_sequence(obj):
-    """Whether ``obj`` supports ``len`` and indexing (and is not a string)."""
-    return isinstance(obj, (Sequence, np.ndarray)) or (
-        hasattr(obj, "__len__") and hasattr(obj, "__getitem__") and not isinstance(obj, (str, bytes))
-    )
