@@ -81,7 +81,6 @@ sphinx_gallery_conf = {
     "gallery_dirs": "auto_examples",
     "filename_pattern": r"/plot_",
     "abort_on_example_error": True,
-    "reference_url": {"sklearn_hardness": None},
     "doc_module": ("sklearn_hardness",),
     "backreferences_dir": "generated/backreferences",
     "matplotlib_animations": False,
