@@ -49,7 +49,6 @@ html_title = f"sklearn-hardness {release}"
 html_theme_options = {
     "show_toc_level": 2,
     "navigation_with_keys": False,
-    "secondary_sidebar_items": ["page-toc", "sg_download_links", "sg_launcher_links"],
 }
 html_sidebars = {"index": [], "getting_started": []}
 html_static_path = []
