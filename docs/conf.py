@@ -30,6 +30,7 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.intersphinx",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # ships MathJax with the pages: equations render without network
     "numpydoc",
     "sphinx_gallery.gen_gallery",
     "myst_parser",
@@ -109,6 +110,14 @@ def _skip_routing_setters(app, what, name, obj, skip, options):
     return None
 
 
+def _drop_type_docstring(app, what, name, obj, options, lines):
+    # A constant without its own doc comment would show its type's docstring ("Built-in immutable sequence").
+    type_doc = " ".join((type(obj).__doc__ or "").split())
+    if what == "data" and type_doc and " ".join(" ".join(lines).split()) == type_doc:
+        lines[:] = []
+
+
 def setup(app):
-    app.connect("autodoc-process-docstring", _escape_shape_names)
+    app.connect("autodoc-process-docstring", _escape_shape_names, priority=100)
+    app.connect("autodoc-process-docstring", _drop_type_docstring, priority=100)  # before numpydoc
     app.connect("autodoc-skip-member", _skip_routing_setters)

@@ -26,7 +26,8 @@ from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.features import OpticalFlowFeatures
 from sklearn_hardness.preprocessing import ContactFrameSelector
 
-data = make_presses("silicone5", n_per_class=2, image_size=(120, 160), random_state=0)
+data = make_presses("silicone5", n_per_class=2, image_size=(120, 160),
+                    random_state=0)
 soft = int(np.flatnonzero(data.target == np.argmax(data.hardness))[0])
 hard = int(np.flatnonzero(data.target == np.argmin(data.hardness))[0])
 selector = ContactFrameSelector(n_between=2, subtract_first=False)
@@ -43,11 +44,12 @@ features = flow.transform(frames)
 tracks = flow.track(frames)
 print("feature vector per press:", features.shape[1], "values")
 print("corners found:", tracks.n_corners.tolist())
-# Displacement of each tracked corner against the first frame; corners that
-# were never found (zero padding) or were lost are left out of the means.
-moved = np.linalg.norm(tracks.points - tracks.points[:, :, :1], axis=-1)  # (2, n_features, k)
-moved = np.where(tracks.valid, moved, np.nan)
-print("mean |displacement| at peak (px): soft %.2f, hard %.2f" % tuple(np.nanmean(moved[:, :, -1], axis=1)))
+# Displacement of each tracked corner against the first frame; corners
+# never found (zero padding) or lost are left out of the means.
+moved = np.linalg.norm(tracks.points - tracks.points[:, :, :1], axis=-1)
+moved = np.where(tracks.valid, moved, np.nan)  # (2 presses, n_features, k)
+at_peak = np.nanmean(moved[:, :, -1], axis=1)
+print("mean |displacement| at peak (px): soft %.2f, hard %.2f" % tuple(at_peak))
 
 # %%
 # The tracks on the last selected frame (peak deformation)
@@ -63,9 +65,11 @@ for ax, i, name in zip(axes, range(2), ["softest", "hardest"]):
     ok = tracks.valid[i, :, -1]
     start = tracks.points[i, ok, 0]
     end = tracks.points[i, ok, -1]
-    ax.quiver(start[:, 0], start[:, 1], scale * (end[:, 0] - start[:, 0]), scale * (end[:, 1] - start[:, 1]),
-              color="yellow", angles="xy", scale_units="xy", scale=1, width=0.004)
-    ax.set_title(f"{name}: {data.hardness[target]:.2f} {data.hardness_unit}, {ok.sum()} tracks")
+    u, v = (scale * (end - start)).T
+    ax.quiver(start[:, 0], start[:, 1], u, v, color="yellow",
+              angles="xy", scale_units="xy", scale=1, width=0.004)
+    hardness = f"{data.hardness[target]:.2f} {data.hardness_unit}"
+    ax.set_title(f"{name}: {hardness}, {ok.sum()} tracks")
     ax.axis("off")
 fig.suptitle(f"Corner displacements from first contact to peak (x{scale:g})")
 fig.tight_layout()
@@ -77,7 +81,8 @@ fig.tight_layout()
 # network gets every corner's ``(dx, dy)``, ordered by corner strength.
 fig, ax = plt.subplots(figsize=(6, 3.5))
 for i, name in enumerate(["softest", "hardest"]):
-    ax.plot(range(1, frames.shape[1]), np.nanmean(moved[i, :, 1:], axis=0), "o-", label=name)
+    mean_moved = np.nanmean(moved[i, :, 1:], axis=0)
+    ax.plot(range(1, frames.shape[1]), mean_moved, "o-", label=name)
 ax.set_xlabel("selected frame (after the first)")
 ax.set_ylabel("mean |displacement| (px)")
 ax.set_xticks(range(1, frames.shape[1]))
