@@ -61,9 +61,13 @@ def main():
     X, y = silicone5_frames(15)
     configs = args.configs.split(",")
     print(f"silicone5 frames {X.shape}; placement {args.placement}; {args.epochs} epochs; {args.seeds} seeds")
-    runs = Parallel(n_jobs=args.n_jobs)(
-        delayed(one_run)(X, y, c, args.placement, args.epochs, s) for c in configs for s in range(args.seeds)
-    )
+    # seed-major order and one line per finished run, so a cut-short run still reports
+    runs = []
+    for run in Parallel(n_jobs=args.n_jobs, return_as="generator")(
+        delayed(one_run)(X, y, c, args.placement, args.epochs, s) for s in range(args.seeds) for c in configs
+    ):
+        runs.append(run)
+        print(f"run {run[0]:<14} seed {run[1]:>3} loss {run[2]:.3f} {run[3]:.0f} s", flush=True)
     print(f"{'config':<14}{'converged':>10}{'share':>8}{'median loss':>13}{'max loss':>10}{'s/fit':>7}")
     for c in configs:
         loss = np.array([r[2] for r in runs if r[0] == c])

@@ -2,19 +2,12 @@
 
 import numpy as np
 import pytest
-import torch
 from sklearn.metrics import balanced_accuracy_score
 from sklearn.utils.class_weight import compute_class_weight
 
 from sklearn_hardness.models import ConvLSTMClassifier, DINOv2NNClassifier, OFNNClassifier
 
-
-@pytest.fixture(autouse=True)
-def _one_thread():
-    n = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(n)
+from .test_models_mlp import _one_thread  # noqa: F401  (autouse: one torch thread)
 
 
 def _imbalanced(n_major=90, n_minor=10, seed=0):

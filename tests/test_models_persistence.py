@@ -9,14 +9,7 @@ import torch
 from sklearn_hardness.models import ConvLSTMClassifier, OFNNClassifier, make_convlstm_pipeline
 
 from ._exp_data import tiny_presses
-
-
-@pytest.fixture(autouse=True)
-def _one_thread():
-    n = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(n)
+from .test_models_mlp import _one_thread  # noqa: F401  (autouse: one torch thread)
 
 
 def _frames(n=12, seed=0):
