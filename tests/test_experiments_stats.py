@@ -1,0 +1,92 @@
+"""Paired statistics of strategies against random, and the paper protocol's command."""
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from sklearn_hardness.experiments import ExperimentResult, format_paired_table, paired_table
+
+
+def _result(rng, n_pairs=12, gain=0.1, converged_fail=()):
+    recs = []
+    for k in range(n_pairs):
+        base = rng.uniform(0.2, 0.7)
+        for s, g in (("random", 0.0), ("variance", gain), ("entropy", 0.0)):
+            noise = rng.normal(0, 0.05)
+            acc = [0.2, base + g / 2 + noise, base + g + noise]
+            recs.append({"key": {"strategy": s, "test_class": k % 3, "seed": k}, "accuracy": acc,
+                         "mae": [0.3, 0.2, 0.1 - g / 2], "converged": not (s, k) in converged_fail,
+                         "holdout_accuracy": [0.2, 0.3, 0.4 + g]})
+    return ExperimentResult(recs)
+
+
+def test_paired_table_matches_scipy_and_finds_a_real_gain():
+    res = _result(np.random.default_rng(0))
+    rows = {(r["strategy"], r["metric"]): r for r in paired_table(res)}
+    assert set(m for _, m in rows) == {"accuracy", "mae", "auc", "holdout_accuracy"}
+    v = rows[("variance", "accuracy")]
+    d = np.array([a["accuracy"][-1] - b["accuracy"][-1] for a, b in zip(
+        res.select(strategy="variance"), res.select(strategy="random"))])
+    assert v["n_pairs"] == 12 and v["diff"] == pytest.approx(d.mean())
+    lo, hi = stats.t.interval(0.95, len(d) - 1, loc=d.mean(), scale=stats.sem(d))
+    assert (v["diff_low"], v["diff_high"]) == (pytest.approx(lo), pytest.approx(hi))
+    assert v["p_ttest"] == pytest.approx(stats.ttest_rel(
+        [r["accuracy"][-1] for r in res.select(strategy="variance")],
+        [r["accuracy"][-1] for r in res.select(strategy="random")]).pvalue)
+    # the effect: a gain of 0.1 is found (interval above 0), no gain is not
+    assert v["diff_low"] > 0 and v["p_wilcoxon"] < 0.01
+    e = rows[("entropy", "accuracy")]
+    assert e["diff_low"] < 0 < e["diff_high"] and e["p_ttest"] > 0.05
+    # auc is the trapezoid mean of the curve
+    r0 = res.select(strategy="variance")[0]["accuracy"]
+    assert rows[("variance", "auc")]["n"] == 12
+    assert np.mean([np.trapezoid(r["accuracy"]) / 2 for r in res.select(strategy="variance")]) == pytest.approx(
+        rows[("variance", "auc")]["mean"])
+    assert r0  # the reference row has no difference
+    assert "diff" not in rows[("random", "accuracy")]
+    text = format_paired_table(paired_table(res))
+    assert "(reference)" in text and "p (Wilcoxon)" in text and "12 pairs" in text
+
+
+def test_paired_table_uses_converged_pairs_only_and_rejects_bad_input():
+    res = _result(np.random.default_rng(1), converged_fail=(("random", 0), ("variance", 5)))
+    v = [r for r in paired_table(res, metrics=["accuracy"]) if r["strategy"] == "variance"][0]
+    assert v["n"] == 11 and v["n_pairs"] == 10
+    # identical strategies: p = 1, not NaN
+    same = _result(np.random.default_rng(2), gain=0.0)
+    for r in same.records:
+        if r["key"]["strategy"] == "entropy":
+            r["accuracy"] = next(x["accuracy"] for x in same.records if x["key"]["strategy"] == "random"
+                                 and x["key"]["seed"] == r["key"]["seed"])
+    e = [r for r in paired_table(same, metrics=["accuracy"]) if r["strategy"] == "entropy"][0]
+    assert e["diff"] == 0 and e["p_ttest"] == 1.0 and e["p_wilcoxon"] == 1.0
+    with pytest.raises(ValueError, match="reference"):
+        paired_table(res, reference="bald")
+    with pytest.raises(ValueError, match="unknown metrics"):
+        paired_table(res, metrics=["f1"])
+    with pytest.raises(ValueError, match="no active-sampling"):
+        paired_table(ExperimentResult([]))
+
+
+@pytest.mark.slow
+def test_reproduce_protocol_paper_runs_everything_and_resumes(tmp_path, capsys):
+    from sklearn_hardness._cli import main
+
+    out = tmp_path / "paper"
+    argv = ["reproduce", "--protocol", "paper", "--out", str(out), "--quick", "--n-runs", "2",
+            "--strategies", "variance", "random", "--set", "image_size=(32,40)", "frame_size=(8,10)",
+            "initial_epochs=2", "epochs_per_query=1", "n_iterations=1", "n_mc_samples=2"]
+    assert main(argv) == 0
+    text = capsys.readouterr()
+    for part in ("== silicone5: convlstm", "== shore9: ofnn", "model baselines", "dropout sweep",
+                 "paired against random", "holdout_accuracy", "p (Wilcoxon)"):
+        assert part in text.out
+    assert "runs," in text.err and "left" in text.err  # a progress line per finished run
+    lines = (out / "results.jsonl").read_text().splitlines()
+    # 2 presets x (2 baseline models + 10 dropout rates) x 2 seeds + (5 + 9) test objects x 2 seeds x 2 strategies
+    assert len(lines) == 2 * 12 * 2 + 14 * 2 * 2
+    assert (out / "summary.txt").read_text().strip() == text.out.split("\nwrote")[0].strip()
+    # rerun: everything is resumed, nothing recomputed, and --quiet prints no progress
+    assert main(argv + ["--quiet"]) == 0
+    again = capsys.readouterr()
+    assert (out / "results.jsonl").read_text().splitlines() == lines and again.err == ""
