@@ -68,25 +68,39 @@ def test_paired_table_uses_converged_pairs_only_and_rejects_bad_input():
         paired_table(ExperimentResult([]))
 
 
-@pytest.mark.slow
-def test_reproduce_protocol_paper_runs_everything_and_resumes(tmp_path, capsys):
+def test_reproduce_protocol_paper_passes_its_arguments(tmp_path, capsys, monkeypatch):
     from sklearn_hardness._cli import main
+    from sklearn_hardness.experiments import _protocol
+
+    seen = {}
+    monkeypatch.setattr(_protocol, "run_paper_protocol", lambda out, **kw: seen.update(kw, out=out) or "SUMMARY")
+    assert main(["reproduce", "--protocol", "paper", "--out", str(tmp_path), "--n-runs", "3", "--quiet",
+                 "--strategies", "variance", "random", "--set", "n_mc_samples=7"]) == 0
+    assert "SUMMARY" in capsys.readouterr().out
+    assert seen["out"] == str(tmp_path) and seen["n_runs"] == 3 and seen["verbose"] == 0
+    assert seen["strategies"] == ["variance", "random"] and seen["n_mc_samples"] == 7
+    assert _protocol.PAPER_PROTOCOL[0][:3] == ("silicone5", "convlstm", 10)  # >= 50 paired runs per strategy
+    assert _protocol.PAPER_PROTOCOL[1][:3] == ("shore9", "ofnn", 10)
+
+
+@pytest.mark.slow
+def test_paper_protocol_runs_everything_and_resumes(tmp_path, capsys):
+    from sklearn_hardness.experiments._protocol import run_paper_protocol
 
     out = tmp_path / "paper"
-    argv = ["reproduce", "--protocol", "paper", "--out", str(out), "--quick", "--n-runs", "2",
-            "--strategies", "variance", "random", "--set", "image_size=(32,40)", "frame_size=(8,10)",
-            "initial_epochs=2", "epochs_per_query=1", "n_iterations=1", "n_mc_samples=2"]
-    assert main(argv) == 0
-    text = capsys.readouterr()
-    for part in ("== silicone5: convlstm", "== shore9: ofnn", "model baselines", "dropout sweep",
-                 "paired against random", "holdout_accuracy", "p (Wilcoxon)"):
-        assert part in text.out
-    assert "runs," in text.err and "left" in text.err  # a progress line per finished run
+    kw = dict(strategies=("variance", "random"), n_runs=2, quick=True, dropouts=(0.1, 0.3),
+              protocol=(("silicone5", "ofnn", 10, ("ofnn",)),), image_size=(32, 40), frame_size=(16, 20),
+              initial_epochs=2, epochs_per_query=1, n_iterations=1, n_mc_samples=2)
+    text = run_paper_protocol(out, **kw)
+    err = capsys.readouterr().err
+    for part in ("== silicone5: ofnn", "model baselines", "dropout sweep", "paired against random",
+                 "holdout_accuracy", "p (Wilcoxon)", "2 seeds x every test object"):
+        assert part in text
+    assert "runs," in err and "left" in err  # a progress line per finished run
     lines = (out / "results.jsonl").read_text().splitlines()
-    # 2 presets x (2 baseline models + 10 dropout rates) x 2 seeds + (5 + 9) test objects x 2 seeds x 2 strategies
-    assert len(lines) == 2 * 12 * 2 + 14 * 2 * 2
-    assert (out / "summary.txt").read_text().strip() == text.out.split("\nwrote")[0].strip()
-    # rerun: everything is resumed, nothing recomputed, and --quiet prints no progress
-    assert main(argv + ["--quiet"]) == 0
-    again = capsys.readouterr()
-    assert (out / "results.jsonl").read_text().splitlines() == lines and again.err == ""
+    # (1 baseline model + 2 dropout rates) x 2 seeds + 5 test objects x 2 seeds x 2 strategies
+    assert len(lines) == 3 * 2 + 5 * 2 * 2
+    assert (out / "summary.txt").read_text() == text + "\n"
+    # rerun: everything is resumed, nothing recomputed, and verbose=0 prints no progress
+    assert run_paper_protocol(out, verbose=0, **kw) == text
+    assert (out / "results.jsonl").read_text().splitlines() == lines and capsys.readouterr().err == ""

@@ -32,11 +32,12 @@ N_HOLDOUT = 5
 
 
 def run_paper_protocol(out, *, strategies=STRATEGIES, n_runs=None, quick=False, n_jobs=None, verbose=1,
-                       dinov2_model=None, protocol=PAPER_PROTOCOL, **config):
+                       dinov2_model=None, protocol=PAPER_PROTOCOL, dropouts=None, **config):
     """Run the whole protocol into the folder ``out`` and return the summary text.
 
     ``n_runs`` (seeds) overrides the protocol's run counts (for a smaller look);
-    ``config`` overrides configuration keys of every experiment.
+    ``config`` overrides configuration keys of every experiment; ``protocol``
+    and ``dropouts`` (None: the sweep's default rates) exist for small tests.
     """
     os.makedirs(out, exist_ok=True)
     path = os.path.join(out, "results.jsonl")
@@ -49,7 +50,8 @@ def run_paper_protocol(out, *, strategies=STRATEGIES, n_runs=None, quick=False, 
         seeds = seeds if n_runs is None else n_runs
         models = tuple(baselines) + (("dinov2nn",) if dinov2_model is not None else ())
         base = run_model_baselines(preset, models=models, n_runs=seeds, **common, **config)
-        sweep = run_dropout_sweep(preset, model=model, n_runs=seeds, **common, **config)
+        sweep = run_dropout_sweep(preset, model=model, n_runs=seeds, **common, **config,
+                                  **({} if dropouts is None else {"dropouts": dropouts}))
         active = run_active_sampling(preset, model=model, strategies=strategies, n_runs=seeds,
                                      **common, **dict(dict(n_holdout=N_HOLDOUT), **config))
         cfg = active.config
