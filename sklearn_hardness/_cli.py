@@ -136,6 +136,9 @@ def _run_paper_protocol(args, config):
 
     from .experiments._protocol import run_paper_protocol
 
+    if args.dataset or args.model:
+        raise SystemExit("--protocol paper runs the simulator presets with their models; it takes no "
+                         "--dataset or --model (use --protocol active for those).")
     t0 = time.time()
     text = run_paper_protocol(args.out, strategies=args.strategies, n_runs=args.n_runs, quick=args.quick,
                               n_jobs=args.n_jobs, verbose=0 if args.quiet else 1,
