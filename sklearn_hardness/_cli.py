@@ -59,6 +59,24 @@ def _quick_help():
     return ", ".join(f"{k}={v}" for k, v in QUICK_OVERRIDES.items())
 
 
+_README_START = "<!-- reproduce-quick-table: start -->"
+_README_END = "<!-- reproduce-quick-table: end -->"
+
+
+def _write_readme_table(path, table):
+    """Replace the block between the README markers by ``table`` (in a code fence)."""
+    with open(path) as f:
+        text = f.read()
+    start, end = text.find(_README_START), text.find(_README_END)
+    if start < 0 or end < start:
+        raise SystemExit(f"{path} has no '{_README_START}' ... '{_README_END}' block to write the table into.")
+    new = text[: start + len(_README_START)] + "\n```\n" + table + "\n```\n" + text[end:]
+    if new != text:
+        with open(path, "w") as f:
+            f.write(new)
+    return new != text
+
+
 def _add_reproduce(sub):
     from .experiments import STRATEGIES
 
@@ -96,8 +114,38 @@ def _add_reproduce(sub):
     p.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE",
                    help="override any configuration key, e.g. --set n_iterations=3 max_reservoir=60 "
                    "frame_size=(24,32) (see sklearn_hardness.experiments.get_config)")
-    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.add_argument("--protocol", default="active", choices=["active", "paper"],
+                   help="active (default): the active-sampling experiment of --preset. paper: the whole "
+                   "protocol, resumable into --out: model baselines, the dropout sweep and active sampling "
+                   "with every strategy at the paper's settings, 10 seeds x every test object, on silicone5 "
+                   "(ConvLSTM) and shore9 (OFNN; DINOv2NN too with --dinov2-model), with 95%% paired "
+                   "intervals and p-values against random and accuracy on held-out presses of every "
+                   "object; writes OUT/summary.txt")
+    p.add_argument("--readme", default=None, metavar="PATH",
+                   help="write the comparison table into PATH (a README) between the lines "
+                   f"'{_README_START}' and '{_README_END}'; README.md's table is made with "
+                   "'reproduce --quick --n-jobs 2 --readme README.md'")
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress (by default a line per finished run with elapsed time and an estimate "
+                   "of the rest goes to stderr)")
     return p
+
+
+def _run_paper_protocol(args, config):
+    import time
+
+    from .experiments._protocol import run_paper_protocol
+
+    if args.dataset or args.model:
+        raise SystemExit("--protocol paper runs the simulator presets with their models; it takes no "
+                         "--dataset or --model (use --protocol active for those).")
+    t0 = time.time()
+    text = run_paper_protocol(args.out, strategies=args.strategies, n_runs=args.n_runs, quick=args.quick,
+                              n_jobs=args.n_jobs, verbose=0 if args.quiet else 1,
+                              dinov2_model=args.dinov2_model, **config)
+    print(text)
+    print(f"wrote results.jsonl and summary.txt to {args.out} ({time.time() - t0:.0f} s)")
+    return 0
 
 
 def _parse_set(items):
@@ -123,10 +171,12 @@ def _run_reproduce(args):
     from .experiments import comparison_table, format_table, run_active_sampling, save_figures
 
     config = _parse_set(args.set)
-    if args.dinov2_model:
-        config["dinov2_model"] = args.dinov2_model
     if args.epochs:
         config["initial_epochs"], config["epochs_per_query"] = args.epochs
+    if args.protocol == "paper":
+        return _run_paper_protocol(args, config)
+    if args.dinov2_model:
+        config["dinov2_model"] = args.dinov2_model
     os.makedirs(args.out, exist_ok=True)
     results_path = os.path.join(args.out, "results.jsonl")
     t0 = time.time()
@@ -163,6 +213,9 @@ def _run_reproduce(args):
     print(note)
     with open(os.path.join(args.out, "table.txt"), "w") as f:
         f.write(header + "\n" + table + "\n" + note + "\n")
+    if args.readme:
+        changed = _write_readme_table(args.readme, table)
+        print(f"{'updated' if changed else 'unchanged'}: the table in {args.readme}")
     with open(os.path.join(args.out, "config.json"), "w") as f:
         json.dump({k: v for k, v in cfg.items()}, f, indent=2, default=repr)
     paths = save_figures(result, args.out)

@@ -7,6 +7,8 @@
 - :func:`run_dropout_sweep`: accuracy and MAE against the dropout rate
   (Sec. III-E).
 - :func:`comparison_table`, :func:`format_table`: the paper's Table I.
+- :func:`paired_table`, :func:`format_paired_table`: strategies against
+  random over paired runs, with 95% intervals and p-values.
 - :func:`plot_active_sampling`, :func:`plot_uncertainty`,
   :func:`plot_dropout_sweep`, :func:`plot_model_baselines`,
   :func:`save_figures`: the paper's figures (matplotlib, PNG).
@@ -22,6 +24,7 @@ from ._plotting import (
     plot_uncertainty,
     save_figures,
 )
+from ._stats import PAIRED_METRICS, format_paired_table, paired_table
 from ._tables import HUMAN_ACCURACY, baseline_table, comparison_table, format_table
 from ._config import MODEL_NAMES, PRESET_CONFIGS, QUICK_OVERRIDES, config_hash, get_config
 from ._results import ExperimentResult, ResultsStore
@@ -33,6 +36,9 @@ __all__ = [
     "comparison_table",
     "baseline_table",
     "format_table",
+    "paired_table",
+    "format_paired_table",
+    "PAIRED_METRICS",
     "HUMAN_ACCURACY",
     "plot_active_sampling",
     "plot_uncertainty",

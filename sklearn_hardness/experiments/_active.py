@@ -289,8 +289,8 @@ def run_active_sampling(
         ``$SKLEARN_HARDNESS_CACHE`` or ``~/.cache/sklearn_hardness``, False
         for none.
     verbose : int, default=1
-        0 silences the progress bars (they are off anyway when stderr is
-        not a terminal).
+        1: a line per finished run on stderr (done/total, elapsed time, an
+        estimate of the rest), also when stderr is a file or a pipe; 0: silent.
     **config
         Overrides of the configuration: ``initial_epochs``,
         ``epochs_per_query``, ``max_reservoir``, ``n_initial``,

@@ -193,6 +193,7 @@ def _cached_compute(folder, spec, dataset, cfg, frame_params, feature_params, ve
     try:
         with os.fdopen(fd, "wb") as f:
             np.savez(f, X=X, y=np.asarray(y))
+        os.chmod(tmp, 0o644)  # mkstemp makes it private; the cache is shared like any data file
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

@@ -132,5 +132,5 @@ def run_tasks(func, tasks, common, store, *, n_jobs=None, verbose=1, desc="runs"
             for records in Parallel(n_jobs=n_jobs, return_as="generator_unordered")(calls):
                 for record in records:
                     store.append(record)
-                progress.update(len(records))
+                    progress.update(1)
     return store

@@ -1,0 +1,36 @@
+"""No typed results: README's --quick table is what the command beside it prints."""
+
+import os
+import shutil
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def test_readme_table_block_is_replaced_in_place(tmp_path):
+    from sklearn_hardness._cli import _README_END, _README_START, _write_readme_table
+
+    path = tmp_path / "R.md"
+    path.write_text(f"intro\n{_README_START}\nold\n{_README_END}\nafter\n")
+    assert _write_readme_table(path, "a  b\n-  -")
+    assert path.read_text() == f"intro\n{_README_START}\n```\na  b\n-  -\n```\n{_README_END}\nafter\n"
+    assert not _write_readme_table(path, "a  b\n-  -")  # idempotent
+    path.write_text("no markers")
+    with pytest.raises(SystemExit, match="no"):
+        _write_readme_table(path, "x")
+
+
+@pytest.mark.slow
+def test_readme_quick_table_is_what_the_code_produces(tmp_path, capsys):
+    """Fails when README.md's table differs from `reproduce --quick --n-jobs 2` (regenerate with --readme)."""
+    from sklearn_hardness._cli import main
+
+    readme = tmp_path / "README.md"
+    shutil.copy(os.path.join(ROOT, "README.md"), readme)
+    before = readme.read_text()
+    assert main(["reproduce", "--quick", "--n-jobs", "2", "--out", str(tmp_path / "out"), "--quiet",
+                 "--readme", str(readme)]) == 0
+    assert readme.read_text() == before, (
+        "README.md's --quick table is not what the code produces; run "
+        "`sklearn-hardness reproduce --quick --n-jobs 2 --readme README.md` and commit the result.")

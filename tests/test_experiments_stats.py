@@ -1,0 +1,108 @@
+"""Paired statistics of strategies against random, and the paper protocol's command."""
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from sklearn_hardness.experiments import ExperimentResult, format_paired_table, paired_table
+
+
+def _result(rng, n_pairs=12, gain=0.1, converged_fail=()):
+    recs = []
+    for k in range(n_pairs):
+        base = rng.uniform(0.2, 0.7)
+        for s, g in (("random", 0.0), ("variance", gain), ("entropy", 0.0)):
+            noise = rng.normal(0, 0.05)
+            acc = [0.2, base + g / 2 + noise, base + g + noise]
+            recs.append({"key": {"strategy": s, "test_class": k % 3, "seed": k}, "accuracy": acc,
+                         "mae": [0.3, 0.2, 0.1 - g / 2], "converged": not (s, k) in converged_fail,
+                         "holdout_accuracy": [0.2, 0.3, 0.4 + g]})
+    return ExperimentResult(recs)
+
+
+def test_paired_table_matches_scipy_and_finds_a_real_gain():
+    res = _result(np.random.default_rng(0))
+    rows = {(r["strategy"], r["metric"]): r for r in paired_table(res)}
+    assert set(m for _, m in rows) == {"accuracy", "mae", "auc", "holdout_accuracy"}
+    v = rows[("variance", "accuracy")]
+    d = np.array([a["accuracy"][-1] - b["accuracy"][-1] for a, b in zip(
+        res.select(strategy="variance"), res.select(strategy="random"))])
+    assert v["n_pairs"] == 12 and v["diff"] == pytest.approx(d.mean())
+    lo, hi = stats.t.interval(0.95, len(d) - 1, loc=d.mean(), scale=stats.sem(d))
+    assert (v["diff_low"], v["diff_high"]) == (pytest.approx(lo), pytest.approx(hi))
+    assert v["p_ttest"] == pytest.approx(stats.ttest_rel(
+        [r["accuracy"][-1] for r in res.select(strategy="variance")],
+        [r["accuracy"][-1] for r in res.select(strategy="random")]).pvalue)
+    # the effect: a gain of 0.1 is found (interval above 0), no gain is not
+    assert v["diff_low"] > 0 and v["p_wilcoxon"] < 0.01
+    e = rows[("entropy", "accuracy")]
+    assert e["diff_low"] < 0 < e["diff_high"] and e["p_ttest"] > 0.05
+    # auc is the trapezoid mean of the curve
+    r0 = res.select(strategy="variance")[0]["accuracy"]
+    assert rows[("variance", "auc")]["n"] == 12
+    assert np.mean([np.trapezoid(r["accuracy"]) / 2 for r in res.select(strategy="variance")]) == pytest.approx(
+        rows[("variance", "auc")]["mean"])
+    assert r0  # the reference row has no difference
+    assert "diff" not in rows[("random", "accuracy")]
+    text = format_paired_table(paired_table(res))
+    assert "(reference)" in text and "p (Wilcoxon)" in text and "12 pairs" in text
+
+
+def test_paired_table_uses_converged_pairs_only_and_rejects_bad_input():
+    res = _result(np.random.default_rng(1), converged_fail=(("random", 0), ("variance", 5)))
+    v = [r for r in paired_table(res, metrics=["accuracy"]) if r["strategy"] == "variance"][0]
+    assert v["n"] == 11 and v["n_pairs"] == 10
+    # identical strategies: p = 1, not NaN
+    same = _result(np.random.default_rng(2), gain=0.0)
+    for r in same.records:
+        if r["key"]["strategy"] == "entropy":
+            r["accuracy"] = next(x["accuracy"] for x in same.records if x["key"]["strategy"] == "random"
+                                 and x["key"]["seed"] == r["key"]["seed"])
+    e = [r for r in paired_table(same, metrics=["accuracy"]) if r["strategy"] == "entropy"][0]
+    assert e["diff"] == 0 and e["p_ttest"] == 1.0 and e["p_wilcoxon"] == 1.0
+    with pytest.raises(ValueError, match="reference"):
+        paired_table(res, reference="bald")
+    with pytest.raises(ValueError, match="unknown metrics"):
+        paired_table(res, metrics=["f1"])
+    with pytest.raises(ValueError, match="no active-sampling"):
+        paired_table(ExperimentResult([]))
+
+
+def test_reproduce_protocol_paper_passes_its_arguments(tmp_path, capsys, monkeypatch):
+    from sklearn_hardness._cli import main
+    from sklearn_hardness.experiments import _protocol
+
+    seen = {}
+    monkeypatch.setattr(_protocol, "run_paper_protocol", lambda out, **kw: seen.update(kw, out=out) or "SUMMARY")
+    assert main(["reproduce", "--protocol", "paper", "--out", str(tmp_path), "--n-runs", "3", "--quiet",
+                 "--strategies", "variance", "random", "--set", "n_mc_samples=7"]) == 0
+    assert "SUMMARY" in capsys.readouterr().out
+    assert seen["out"] == str(tmp_path) and seen["n_runs"] == 3 and seen["verbose"] == 0
+    assert seen["strategies"] == ["variance", "random"] and seen["n_mc_samples"] == 7
+    with pytest.raises(SystemExit, match="no --dataset or --model"):
+        main(["reproduce", "--protocol", "paper", "--out", str(tmp_path), "--model", "ofnn"])
+    assert _protocol.PAPER_PROTOCOL[0][:3] == ("silicone5", "convlstm", 10)  # >= 50 paired runs per strategy
+    assert _protocol.PAPER_PROTOCOL[1][:3] == ("shore9", "ofnn", 10)
+
+
+@pytest.mark.slow
+def test_paper_protocol_runs_everything_and_resumes(tmp_path, capsys):
+    from sklearn_hardness.experiments._protocol import run_paper_protocol
+
+    out = tmp_path / "paper"
+    kw = dict(strategies=("variance", "random"), n_runs=2, quick=True, dropouts=(0.1, 0.3),
+              protocol=(("silicone5", "ofnn", 10, ("ofnn",)),), image_size=(32, 40), frame_size=(16, 20),
+              initial_epochs=2, epochs_per_query=1, n_iterations=1, n_mc_samples=2)
+    text = run_paper_protocol(out, **kw)
+    err = capsys.readouterr().err
+    for part in ("== silicone5: ofnn", "model baselines", "dropout sweep", "paired against random",
+                 "holdout_accuracy", "p (Wilcoxon)", "2 seeds x every test object"):
+        assert part in text
+    assert "runs," in err and "left" in err  # a progress line per finished run
+    lines = (out / "results.jsonl").read_text().splitlines()
+    # (1 baseline model + 2 dropout rates) x 2 seeds + 5 test objects x 2 seeds x 2 strategies
+    assert len(lines) == 3 * 2 + 5 * 2 * 2
+    assert (out / "summary.txt").read_text() == text + "\n"
+    # rerun: everything is resumed, nothing recomputed, and verbose=0 prints no progress
+    assert run_paper_protocol(out, verbose=0, **kw) == text
+    assert (out / "results.jsonl").read_text().splitlines() == lines and capsys.readouterr().err == ""
