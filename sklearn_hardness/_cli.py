@@ -265,7 +265,8 @@ def _add_evaluate(sub):
     p.add_argument("dataset", help="a manifest.csv (or its folder), or a simulator preset "
                    "(everyday, silicone5, shore9)")
     p.add_argument("--pipelines", nargs="*", default=["convlstm", "ofnn"],
-                   help="among peak_change, convlstm, ofnn, dinov2nn (default: convlstm ofnn); "
+                   help="among peak_change, contact_profile, convlstm, ofnn, dinov2nn (default: "
+                   "convlstm ofnn); "
                    "the peak_change baseline is always added")
     p.add_argument("--cv", type=int, default=5, help="number of object-disjoint folds (default 5)")
     p.add_argument("--out", default=None, help="folder for confusion_matrices.png and evaluation.json")

@@ -36,7 +36,7 @@ __all__ = [
 ]
 
 #: Pipelines known by name (``"peak_change"`` is the one-number baseline).
-PIPELINE_NAMES = ("peak_change", "convlstm", "ofnn", "dinov2nn")
+PIPELINE_NAMES = ("peak_change", "contact_profile", "convlstm", "ofnn", "dinov2nn")
 
 
 def peak_contact_change(videos):
@@ -101,6 +101,11 @@ def _named_pipeline(name):
 
     if name == "peak_change":
         return make_peak_change_baseline()
+    if name == "contact_profile":
+        from ..features import ContactProfileFeatures
+
+        return make_pipeline(ContactProfileFeatures(), StandardScaler(),
+                             LogisticRegression(class_weight="balanced", max_iter=2000))
     return getattr(models, f"make_{name}_pipeline")()
 
 
@@ -185,8 +190,10 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
         :func:`~sklearn_hardness.datasets.load_press_videos`.
     pipelines : dict, list of str or None, default=None
         ``{name: estimator}``, or names among ``"peak_change"``,
-        ``"convlstm"``, ``"ofnn"``, ``"dinov2nn"`` (the ready-made
-        pipelines of :mod:`sklearn_hardness.models` at their defaults).
+        ``"contact_profile"`` (:class:`~sklearn_hardness.features.ContactProfileFeatures`
+        + balanced logistic regression), ``"convlstm"``, ``"ofnn"``,
+        ``"dinov2nn"`` (the ready-made pipelines of
+        :mod:`sklearn_hardness.models` at their defaults).
         None: ``["convlstm", "ofnn"]``.
     cv : int, default=5
         Number of folds. Every class needs at least ``cv`` objects.
