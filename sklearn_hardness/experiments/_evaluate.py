@@ -24,7 +24,7 @@ from sklearn.metrics import balanced_accuracy_score, confusion_matrix
 from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import FunctionTransformer, StandardScaler
-from sklearn.utils import Bunch
+from sklearn.utils import Bunch, _safe_indexing
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
 __all__ = [
@@ -145,8 +145,8 @@ def _fit_fold(name, estimator, X, y, train, test, hardness, error_score):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)
-            est = clone(estimator).fit(X[train], y[train])
-            pred = np.asarray(est.predict(X[test]))
+            est = clone(estimator).fit(_safe_indexing(X, train), y[train])
+            pred = np.asarray(est.predict(_safe_indexing(X, test)))
     except Exception as exc:
         if error_score == "raise":
             raise
