@@ -325,12 +325,12 @@ def format_evaluation(result):
     n_folds = result.table[0]["n_folds"] if result.table else 0
     lines = [f"object-disjoint {n_folds}-fold CV, {len(np.unique(result.groups))} objects, "
              f"{len(result.target)} presses, chance {result.chance:.2f}",
-             f"{'pipeline':<14} {'bal. accuracy [95% CI]':<26} {'MAE':>6} {'vs peak':>8} {'time s':>8}"]
+             f"{'pipeline':<16} {'bal. accuracy [95% CI]':<24} {'MAE':>6} {'vs peak':>8} {'time s':>8}"]
     for r in result.table:
         lo, hi = r["balanced_accuracy_ci"]
         mae = "-" if r["mae"] is None else f"{r['mae']:.2f}"
         delta = "" if base is None or r["pipeline"] == "peak_change" else f"{r['balanced_accuracy'] - base:+.2f}"
-        lines.append(f"{r['pipeline']:<14} {r['balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]{'':<12} "
+        lines.append(f"{r['pipeline']:<16} {r['balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]{'':<7} "
                      f"{mae:>6} {delta:>8} {r['fit_predict_seconds']:>8.1f}")
         if r["error"]:
             lines.append(f"  error: {r['error']}")
