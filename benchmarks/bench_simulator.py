@@ -8,8 +8,15 @@ scalar (the peak of the contact curve) against the same model on the four
 frames ContactFrameSelector picks (at 48x64 for speed; ``--no-check`` skips it).
 
     python benchmarks/bench_simulator.py [--image-size 240 320] [--n-jobs 1] [--no-check]
+    python benchmarks/bench_simulator.py --preset everyday [--codec mp4v|none]
 
 Targets (issue 3): under 30 s and under 3 GB peak RSS on 2 cores.
+
+With ``--preset everyday`` it times the preset (168 presses, rendered and passed
+through the codec), prints its contact statistics per rank against the real
+GelSight Mini figures of issue 10, and the object-disjoint 5-fold balanced
+accuracy of the one-number baseline and of ContactProfileFeatures + logistic
+regression (``evaluate_pipelines``).
 """
 
 import argparse
@@ -58,7 +65,11 @@ def main():
     parser.add_argument("--n-jobs", type=int, default=1, help="render in parallel (joblib) when > 1")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--no-check", action="store_true", help="skip the classification check")
+    parser.add_argument("--preset", default="silicone5", choices=["silicone5", "everyday"])
+    parser.add_argument("--codec", default="auto", help="everyday only: mp4v (auto), mjpg or none")
     args = parser.parse_args()
+    if args.preset == "everyday":
+        return _everyday(args)
 
     from sklearn_hardness.datasets import make_presses
 
@@ -93,6 +104,43 @@ def main():
               f"chance 0.20; {dt:.1f} s); contact found on every press: {found}")
         for name, a in acc.items():
             print(f"  {name:<24} accuracy {a:.3f}")
+
+
+def _everyday(args):
+    from sklearn_hardness.datasets import make_presses
+    from sklearn_hardness.experiments import evaluate_pipelines, format_evaluation
+    from sklearn_hardness.preprocessing import contact_curve
+
+    codec = None if args.codec == "none" else args.codec
+    t0 = time.perf_counter()
+    data = make_presses("everyday", image_size=tuple(args.image_size), codec=codec, random_state=args.seed)
+    t_make = time.perf_counter() - t0
+    # contact_curve and ContactProfileFeatures look at every 4th pixel of a 240x320 frame (80 px on the
+    # long side): keeping just those pixels gives the same numbers in 1/16 of the memory.
+    stride = max(1, max(args.image_size) // 80)
+    t0 = time.perf_counter()
+    videos = [np.ascontiguousarray(v[:, ::stride, ::stride]) for v in data.videos]
+    t_render = time.perf_counter() - t0
+    n = len(videos)
+    print(f"everyday: {n} presses of {len(data.objects)} objects, {sum(len(v) for v in videos)} frames "
+          f"at {args.image_size[0]}x{args.image_size[1]}, codec {data.params.get('codec', codec)}")
+    print(f"make_presses {t_make:.2f} s; render all {t_render:.1f} s ({1000 * t_render / n:.0f} ms/video); "
+          f"peak RSS {_rss_mb():.0f} MB")
+    curves = [contact_curve(v) for v in videos]
+    full = data.press_params["n_frames"] == data.params["video_length"]
+    pre = np.array([c[:30] for c, f in zip(curves, full) if f])
+    print(f"pre-contact (full videos): frame 1 {np.median(pre[:, 1]):.2f}, frames 18-23 "
+          f"{np.median(pre[:, 18:24]):.2f} grey levels (real: jump on frame 1, ~1.0 after ~20 frames)")
+    real = {"hard": "2.5-3", "moderate": "-", "soft": "1.5-1.8"}
+    for c, name in enumerate(data.target_names):
+        peak = np.array([curves[i].max() for i in np.flatnonzero(full & (data.target == c))])
+        q = np.percentile(peak, [10, 50, 90])
+        print(f"  {name:<9} peak change median {q[1]:.2f} [10-90%: {q[0]:.2f}-{q[2]:.2f}]  real {real[name]}")
+    data.videos = videos  # rendered once, shared by every fold
+    t0 = time.perf_counter()
+    result = evaluate_pipelines(data, ["contact_profile"], cv=5, n_jobs=args.n_jobs)
+    print(format_evaluation(result))
+    print(f"evaluation {time.perf_counter() - t0:.1f} s")
 
 
 if __name__ == "__main__":

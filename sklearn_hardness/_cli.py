@@ -236,7 +236,7 @@ def _add_simulate(sub):
         "sklearn_hardness.datasets.load_press_videos reads back. Default format: lossless FFV1 "
         "in .avi (bit-exact round trip); mp4 uses the lossy MPEG-4 'mp4v' codec.",
     )
-    p.add_argument("--preset", default="silicone5", help="silicone5 (default) or shore9")
+    p.add_argument("--preset", default="silicone5", help="silicone5 (default), shore9 or everyday")
     p.add_argument("--out", required=True, help="output folder (created)")
     p.add_argument("--n-per-class", type=int, default=None, help="presses per object (default: the preset's)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
@@ -245,7 +245,10 @@ def _add_simulate(sub):
     p.add_argument("--format", choices=sorted(_SIM_FORMATS), default="avi",
                    help="avi: lossless FFV1 (default); mp4: lossy mp4v; png: a folder of PNGs per "
                    "press; npy: raw arrays")
-    p.add_argument("--no-markers", action="store_true", help="simulate a gel without markers")
+    p.add_argument("--no-markers", action="store_true", help="simulate a gel without markers "
+                   "(everyday is marker-less anyway)")
+    p.add_argument("--codec", default="auto", help="pass frames through a lossy codec before writing: "
+                   "mp4v, avc1 (H.264, where OpenCV has it), mjpg, none; default auto (mp4v for everyday)")
     p.add_argument("--n-jobs", type=int, default=1, help="parallel writers (joblib; default 1)")
     return p
 
@@ -267,8 +270,9 @@ def _run_simulate(args):
 
     from .datasets import make_presses
 
-    data = make_presses(args.preset, args.n_per_class, markers=not args.no_markers,
-                        image_size=tuple(args.image_size), random_state=args.seed)
+    codec = None if args.codec.lower() == "none" else args.codec
+    data = make_presses(args.preset, args.n_per_class, markers=False if args.no_markers else None,
+                        image_size=tuple(args.image_size), codec=codec, random_state=args.seed)
     root = Path(args.out)
     for sub in ("videos", "force", "timestamps"):
         (root / sub).mkdir(parents=True, exist_ok=True)
@@ -299,6 +303,55 @@ def _run_simulate(args):
                        + [f"{pp[k][i]:.6g}" for k in extra])
     codec = {"avi": "FFV1, lossless", "mp4": "mp4v, lossy", "png": "PNG, lossless", "npy": "raw"}
     print(f"wrote {n} videos ({codec[args.format]}) and {root / 'manifest.csv'}")
+    return 0
+
+
+def _add_evaluate(sub):
+    p = sub.add_parser(
+        "evaluate",
+        help="object-disjoint cross-validation of pipelines on your recordings or a preset",
+        description="Cross-validate pipelines with folds grouped by object_id (no test object is "
+        "seen in training), print balanced accuracy and hardness MAE per pipeline beside the "
+        "one-number baseline (peak change to the first frame + balanced logistic regression), and "
+        "save a confusion-matrix figure.",
+    )
+    p.add_argument("dataset", help="a manifest.csv (or its folder), or a simulator preset "
+                   "(everyday, silicone5, shore9)")
+    p.add_argument("--pipelines", nargs="*", default=["convlstm", "ofnn"],
+                   help="among peak_change, contact_profile, convlstm, ofnn, dinov2nn (default: "
+                   "convlstm ofnn); "
+                   "the peak_change baseline is always added")
+    p.add_argument("--cv", type=int, default=5, help="number of object-disjoint folds (default 5)")
+    p.add_argument("--out", default=None, help="folder for confusion_matrices.png and evaluation.json")
+    p.add_argument("--seed", type=int, default=0, help="seed of the folds and of a preset (default 0)")
+    p.add_argument("--n-jobs", type=int, default=None, help="folds in parallel (joblib)")
+    return p
+
+
+def _run_evaluate(args):
+    import json
+    from pathlib import Path
+
+    import numpy as np
+
+    from .experiments import evaluate_pipelines, format_evaluation, plot_confusion_matrices
+
+    try:
+        result = evaluate_pipelines(args.dataset, args.pipelines, cv=args.cv, error_score=np.nan,
+                                    n_jobs=args.n_jobs, random_state=args.seed)
+    except (ValueError, FileNotFoundError) as exc:
+        print(f"sklearn-hardness evaluate: error: {exc}", file=sys.stderr)
+        return 2
+    print(format_evaluation(result))
+    if args.out is not None:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        plot_confusion_matrices(result, out / "confusion_matrices.png")
+        rows = [{k: (list(v) if isinstance(v, tuple) else v) for k, v in r.items()} for r in result.table]
+        (out / "evaluation.json").write_text(json.dumps(
+            {"table": rows, "fold_scores": {k: v.tolist() for k, v in result.fold_scores.items()},
+             "target_names": result.target_names.tolist()}, indent=1))
+        print(f"wrote {out / 'confusion_matrices.png'} and {out / 'evaluation.json'}")
     return 0
 
 
@@ -341,6 +394,7 @@ _SUBCOMMANDS = {
     "simulate": (_add_simulate, _run_simulate),
     "reproduce": (_add_reproduce, _run_reproduce),
     "benchmark": (_add_benchmark, _run_benchmark),
+    "evaluate": (_add_evaluate, _run_evaluate),
 }
 
 

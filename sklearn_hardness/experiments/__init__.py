@@ -17,6 +17,7 @@
 
 from ._active import STRATEGIES, run_active_sampling
 from ._baselines import run_dropout_sweep, run_model_baselines
+from ._evaluate import evaluate_pipelines, format_evaluation, make_peak_change_baseline, peak_contact_change, plot_confusion_matrices  # noqa: E501
 from ._plotting import (
     plot_active_sampling,
     plot_dropout_sweep,
@@ -33,6 +34,7 @@ __all__ = [
     "run_active_sampling",
     "run_model_baselines",
     "run_dropout_sweep",
+    "evaluate_pipelines", "format_evaluation", "make_peak_change_baseline", "peak_contact_change", "plot_confusion_matrices",  # noqa: E501
     "comparison_table",
     "baseline_table",
     "format_table",

@@ -86,6 +86,7 @@ def run_model_baselines(
     results_path=None,
     memory=None,
     verbose=1,
+    cv=None,
     **config,
 ):
     """Train each model on a few presses per object and test it (Sec. III-D).
@@ -109,13 +110,37 @@ def run_model_baselines(
         Seeds per model.
     preset, quick, n_jobs, results_path, memory, verbose, **config
         As in :func:`run_active_sampling`.
+    cv : int or None, default=None
+        None: the paper's protocol above. An int: object-disjoint
+        cross-validation instead (folds grouped by ``object_id``), the
+        models at their ready-made defaults beside the one-number baseline;
+        the result is then that of :func:`evaluate_pipelines` (balanced
+        accuracy, MAE, confusion matrices), and ``n_train_per_class``,
+        ``n_test_per_class``, ``n_runs``, ``quick``, ``results_path``,
+        ``memory`` and ``**config`` do not apply.
 
     Returns
     -------
-    result : ExperimentResult
+    result : ExperimentResult or Bunch
         One record per (model, seed): ``train_accuracy``, ``accuracy``,
-        ``mae``, ``train_loss``, ``train_loss_curve``, ``converged``.
+        ``mae``, ``train_loss``, ``train_loss_curve``, ``converged``. With
+        ``cv``: the Bunch of :func:`evaluate_pipelines`.
     """
+    if cv is not None:
+        from ._evaluate import evaluate_pipelines
+
+        if isinstance(models, str):
+            models = (models,)
+        pipes = {m: m for m in models} if all(isinstance(m, str) for m in models) else None
+        if pipes is not None:
+            from ._evaluate import _named_pipeline
+
+            pipes = {m: _named_pipeline(m) for m in models}
+        else:
+            pipes = {str(n): e for n, e in models}
+        if isinstance(dataset, str) and preset is not None and dataset == preset:
+            dataset = preset
+        return evaluate_pipelines(dataset, pipes, cv=cv, n_jobs=n_jobs)
     n_train = _check_n(n_train_per_class, "n_train_per_class")
     n_test = _check_n(n_test_per_class, "n_test_per_class")
     n_runs = _check_n(n_runs, "n_runs")

@@ -7,7 +7,8 @@
   ``transformers`` dependency: ``pip install sklearn-hardness[dinov2]``).
 """
 
+from ._contact_profile import ContactProfileFeatures
 from ._dinov2 import DINOv2Features
 from ._optical_flow import OpticalFlowFeatures
 
-__all__ = ["DINOv2Features", "OpticalFlowFeatures"]
+__all__ = ["ContactProfileFeatures", "DINOv2Features", "OpticalFlowFeatures"]

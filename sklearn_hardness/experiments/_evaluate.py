@@ -1,0 +1,373 @@
+"""Object-disjoint evaluation: cross-validation grouped by ``object_id``.
+
+The paper tests on new presses of the *same* objects. A user with their own
+objects needs the other question answered: how well does a pipeline rank the
+hardness of an object it has never seen? :func:`evaluate_pipelines` answers
+it with folds that keep every object's presses together
+(:class:`~sklearn.model_selection.StratifiedGroupKFold`), and reports each
+pipeline beside the one-number baseline of :func:`make_peak_change_baseline`.
+"""
+
+from __future__ import annotations
+
+import numbers
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+from joblib import Parallel, delayed
+from scipy import stats
+from sklearn.base import clone
+from sklearn.linear_model import LogisticRegression
+from sklearn.metrics import balanced_accuracy_score, confusion_matrix
+from sklearn.model_selection import StratifiedGroupKFold
+from sklearn.pipeline import make_pipeline
+from sklearn.preprocessing import FunctionTransformer, StandardScaler
+from sklearn.utils import Bunch, _safe_indexing
+from sklearn.utils._param_validation import Interval, StrOptions, validate_params
+
+__all__ = [
+    "evaluate_pipelines",
+    "make_peak_change_baseline",
+    "peak_contact_change",
+    "format_evaluation",
+    "plot_confusion_matrices",
+]
+
+#: Pipelines known by name (``"peak_change"`` is the one-number baseline).
+PIPELINE_NAMES = ("peak_change", "contact_profile", "convlstm", "ofnn", "dinov2nn")
+
+
+def peak_contact_change(videos):
+    """Log of the peak mean absolute change to the first frame, one per video.
+
+    The one number a first look at a press gives: the maximum of
+    :func:`~sklearn_hardness.preprocessing.contact_curve`.
+
+    Parameters
+    ----------
+    videos : sequence of array-like of shape (T, H, W, 3)
+        Press videos (a list or a lazy sequence).
+
+    Returns
+    -------
+    feature : ndarray of shape (n_videos, 1)
+        ``log(0.1 + max_t curve(t))`` (the log evens out the spread of
+        strong contacts; 0.1 keeps one-frame videos finite).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.experiments import peak_contact_change
+    >>> video = np.full((4, 16, 16, 3), 100, np.uint8)
+    >>> video[3, :4, :4] = 116
+    >>> peak_contact_change([video]).round(3).tolist()
+    [[0.095]]
+    """
+    from ..preprocessing import contact_curve
+
+    return np.array([[np.log(0.1 + float(np.max(contact_curve(v))))] for v in videos])
+
+
+def make_peak_change_baseline(class_weight="balanced"):
+    """The one-number baseline: peak change to the first frame + logistic regression.
+
+    Parameters
+    ----------
+    class_weight : "balanced", dict or None, default="balanced"
+        Passed to :class:`~sklearn.linear_model.LogisticRegression`;
+        ``"balanced"`` keeps imbalanced ranks from collapsing onto the
+        majority class.
+
+    Returns
+    -------
+    pipeline : :class:`~sklearn.pipeline.Pipeline`
+        ``FunctionTransformer(peak_contact_change)`` -> ``StandardScaler`` ->
+        ``LogisticRegression``; takes a sequence of videos.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.experiments import make_peak_change_baseline
+    >>> [name for name, _ in make_peak_change_baseline().steps]
+    ['functiontransformer', 'standardscaler', 'logisticregression']
+    """
+    return make_pipeline(FunctionTransformer(peak_contact_change), StandardScaler(),
+                         LogisticRegression(class_weight=class_weight))
+
+
+def _named_pipeline(name):
+    from .. import models
+
+    if name == "peak_change":
+        return make_peak_change_baseline()
+    if name == "contact_profile":
+        from ..features import ContactProfileFeatures
+
+        return make_pipeline(ContactProfileFeatures(), StandardScaler(),
+                             LogisticRegression(class_weight="balanced", max_iter=2000))
+    return getattr(models, f"make_{name}_pipeline")()
+
+
+def _load_dataset(dataset, random_state):
+    if isinstance(dataset, Bunch) or hasattr(dataset, "videos"):
+        return dataset
+    from ..datasets import load_press_videos, make_presses
+    from ..datasets._sim_presets import PRESETS
+
+    if isinstance(dataset, str) and dataset in PRESETS:
+        return make_presses(dataset, random_state=random_state)
+    path = Path(dataset)
+    if path.is_dir():
+        path = path / "manifest.csv"
+    if not path.exists():
+        raise FileNotFoundError(
+            f"dataset {str(dataset)!r} is neither a simulator preset ({sorted(PRESETS)}) nor an "
+            "existing manifest (a .csv file, or a folder holding manifest.csv)."
+        )
+    return load_press_videos(path)
+
+
+def _ci95(values):
+    values = np.asarray([v for v in values if v is not None and np.isfinite(v)], dtype=float)
+    if len(values) < 2:
+        m = float(values.mean()) if len(values) else float("nan")
+        return m, (m, m)
+    m = float(values.mean())
+    half = float(stats.t.ppf(0.975, len(values) - 1) * values.std(ddof=1) / np.sqrt(len(values)))
+    return m, (m - half, m + half)
+
+
+def _fit_fold(name, estimator, X, y, train, test, hardness, error_score):
+    from ..metrics import hardness_mae
+
+    t0 = time.perf_counter()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            est = clone(estimator).fit(_safe_indexing(X, train), y[train])
+            pred = np.asarray(est.predict(_safe_indexing(X, test)))
+    except Exception as exc:
+        if error_score == "raise":
+            raise
+        warnings.warn(f"pipeline {name!r} failed on a fold: {type(exc).__name__}: {exc}", RuntimeWarning)
+        return dict(pred=None, time=time.perf_counter() - t0, error=f"{type(exc).__name__}: {exc}")
+    seconds = time.perf_counter() - t0
+    mae = None if hardness is None else hardness_mae(y[test], pred, hardness)
+    return dict(pred=pred, time=seconds, error=None,
+                balanced_accuracy=balanced_accuracy_score(y[test], pred), mae=mae)
+
+
+@validate_params(
+    {
+        "dataset": "no_validation",
+        "pipelines": [dict, list, tuple, None],
+        "cv": [Interval(numbers.Integral, 2, None, closed="left")],
+        "baseline": ["boolean"],
+        "error_score": [StrOptions({"raise"}), numbers.Real],
+        "n_jobs": [numbers.Integral, None],
+        "random_state": ["random_state"],
+    },
+    prefer_skip_nested_validation=True,
+)
+def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_score="raise",
+                       n_jobs=None, random_state=0):
+    """Object-disjoint cross-validation of press-video pipelines.
+
+    Each fold tests on objects that no training press came from
+    (:class:`~sklearn.model_selection.StratifiedGroupKFold` over
+    ``object_id``), so the score says how a pipeline does on a new object.
+    Every pipeline sees the same folds; the one-number baseline
+    (:func:`make_peak_change_baseline`) runs beside them.
+
+    Parameters
+    ----------
+    dataset : Bunch, str or path
+        A dataset Bunch (``videos``, ``target``, ``target_names``,
+        ``object_id``; ``hardness`` for the MAE), the name of a simulator
+        preset (``"everyday"``, ...), or a manifest (``.csv``, or a folder
+        holding ``manifest.csv``) read with
+        :func:`~sklearn_hardness.datasets.load_press_videos`.
+    pipelines : dict, list of str or None, default=None
+        ``{name: estimator}``, or names among ``"peak_change"``,
+        ``"contact_profile"`` (:class:`~sklearn_hardness.features.ContactProfileFeatures`
+        + balanced logistic regression), ``"convlstm"``, ``"ofnn"``,
+        ``"dinov2nn"`` (the ready-made pipelines of
+        :mod:`sklearn_hardness.models` at their defaults).
+        None: ``["convlstm", "ofnn"]``.
+    cv : int, default=5
+        Number of folds. Every class needs at least ``cv`` objects.
+    baseline : bool, default=True
+        Add the one-number baseline as ``"peak_change"``.
+    error_score : "raise" or float, default="raise"
+        What a failing pipeline gives: raise, or warn and score the fold as
+        this value (e.g. ``np.nan``); the table names the error.
+    n_jobs : int or None, default=None
+        Folds run in parallel through joblib.
+    random_state : int, RandomState instance or None, default=0
+        Seed of the fold assignment (and of a simulated dataset).
+
+    Returns
+    -------
+    result : :class:`~sklearn.utils.Bunch`
+        table : list of dict
+            Per pipeline: ``pipeline``, ``balanced_accuracy`` and
+            ``balanced_accuracy_ci`` (mean over folds and its 95%
+            t-interval), ``mae`` and ``mae_ci`` (hardness MAE, None without
+            hardness), ``fit_predict_seconds`` (all folds), ``n_folds``,
+            ``error``.
+        fold_scores : dict of name -> ndarray of shape (cv,)
+            Balanced accuracy per fold.
+        predictions : dict of name -> ndarray of shape (n_samples,)
+            Out-of-fold predictions.
+        confusion : dict of name -> ndarray of shape (n_classes, n_classes)
+            Confusion matrix of the out-of-fold predictions.
+        target, target_names, groups, folds, chance
+            The labels, class names, object of each press, the folds'
+            test indices, and chance level (``1 / n_classes``).
+
+    Raises
+    ------
+    ValueError
+        A class with fewer objects than ``cv``, an unknown pipeline name,
+        or a dataset without ``object_id``.
+
+    See Also
+    --------
+    format_evaluation, plot_confusion_matrices
+
+    Examples
+    --------
+    >>> from sklearn_hardness.datasets import make_presses
+    >>> from sklearn_hardness.experiments import evaluate_pipelines
+    >>> data = make_presses("everyday", n_per_class=2, n_objects=9, class_ratio=[1, 1, 1],
+    ...                     image_size=(32, 40), codec=None, random_state=0)
+    >>> result = evaluate_pipelines(data, pipelines=[], cv=3)
+    >>> result.table[0]["pipeline"], result.confusion["peak_change"].shape
+    ('peak_change', (3, 3))
+    """
+    data = _load_dataset(dataset, random_state)
+    X, y = data.videos, np.asarray(data.target)
+    groups = getattr(data, "object_id", None)
+    if groups is None:
+        raise ValueError("the dataset has no object_id: object-disjoint folds need to know which "
+                         "object each press is of (add an object_id column to the manifest).")
+    groups = np.asarray(groups)
+    if pipelines is None:
+        pipelines = ["convlstm", "ofnn"]
+    if isinstance(pipelines, dict):
+        named = {str(k): v for k, v in pipelines.items()}
+    else:
+        unknown = [p for p in pipelines if p not in PIPELINE_NAMES]
+        if unknown:
+            raise ValueError(f"unknown pipeline(s) {unknown}; choose among {list(PIPELINE_NAMES)} "
+                             "or pass a dict {name: estimator}.")
+        named = {p: _named_pipeline(p) for p in pipelines}
+    if baseline and "peak_change" not in named:
+        named = {"peak_change": make_peak_change_baseline(), **named}
+    if not named:
+        raise ValueError("no pipelines to evaluate.")
+    names = np.asarray(data.target_names)
+    n_classes = len(names)
+    objects_per_class = [len(np.unique(groups[y == c])) for c in range(n_classes)]
+    short = [str(names[c]) for c in range(n_classes) if objects_per_class[c] < cv]
+    if short:
+        raise ValueError(f"classes {short} have fewer than cv={cv} objects "
+                         f"({dict(zip(names.tolist(), objects_per_class))}); lower cv.")
+    splitter = StratifiedGroupKFold(n_splits=cv, shuffle=True, random_state=random_state)
+    folds = list(splitter.split(np.zeros(len(y)), y, groups))
+    hardness = getattr(data, "hardness", None)
+    jobs = [(name, est, k) for name, est in named.items() for k in range(len(folds))]
+    outs = Parallel(n_jobs=n_jobs)(
+        delayed(_fit_fold)(name, est, X, y, folds[k][0], folds[k][1], hardness, error_score)
+        for name, est, k in jobs
+    )
+    table, fold_scores, predictions, confusion = [], {}, {}, {}
+    for name in named:
+        rows = [o for (n, _, _), o in zip(jobs, outs) if n == name]
+        errors = sorted({o["error"] for o in rows if o["error"]})
+        pred = np.full(len(y), -1)
+        for (train, test), o in zip(folds, rows):
+            if o["pred"] is not None:
+                pred[test] = o["pred"]
+        scores = np.array([o.get("balanced_accuracy", error_score) for o in rows], dtype=float)
+        ba, ba_ci = _ci95(scores)
+        maes = [o.get("mae") for o in rows]
+        mae, mae_ci = (None, None) if hardness is None else _ci95(maes)
+        fold_scores[name], predictions[name] = scores, pred
+        ok = pred >= 0
+        confusion[name] = (confusion_matrix(y[ok], pred[ok], labels=np.arange(n_classes)) if ok.any()
+                           else np.zeros((n_classes, n_classes), dtype=int))
+        table.append(dict(pipeline=name, balanced_accuracy=ba, balanced_accuracy_ci=ba_ci, mae=mae,
+                          mae_ci=mae_ci, fit_predict_seconds=float(sum(o["time"] for o in rows)),
+                          n_folds=len(rows), error="; ".join(errors) or None))
+    return Bunch(table=table, fold_scores=fold_scores, predictions=predictions, confusion=confusion,
+                 target=y, target_names=names, groups=groups, folds=[test for _, test in folds],
+                 chance=1.0 / n_classes, hardness_unit=getattr(data, "hardness_unit", None))
+
+
+def format_evaluation(result):
+    """The table of :func:`evaluate_pipelines` as text.
+
+    Parameters
+    ----------
+    result : Bunch
+        What :func:`evaluate_pipelines` returned.
+
+    Returns
+    -------
+    text : str
+        One line per pipeline: balanced accuracy with its 95% interval over
+        folds, hardness MAE, time, and the margin over the one-number
+        baseline.
+    """
+    base = next((r["balanced_accuracy"] for r in result.table if r["pipeline"] == "peak_change"), None)
+    n_folds = result.table[0]["n_folds"] if result.table else 0
+    lines = [f"object-disjoint {n_folds}-fold CV, {len(np.unique(result.groups))} objects, "
+             f"{len(result.target)} presses, chance {result.chance:.2f}",
+             f"{'pipeline':<16} {'bal. accuracy [95% CI]':<24} {'MAE':>6} {'vs peak':>8} {'time s':>8}"]
+    for r in result.table:
+        lo, hi = r["balanced_accuracy_ci"]
+        mae = "-" if r["mae"] is None else f"{r['mae']:.2f}"
+        delta = "" if base is None or r["pipeline"] == "peak_change" else f"{r['balanced_accuracy'] - base:+.2f}"
+        lines.append(f"{r['pipeline']:<16} {r['balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]{'':<7} "
+                     f"{mae:>6} {delta:>8} {r['fit_predict_seconds']:>8.1f}")
+        if r["error"]:
+            lines.append(f"  error: {r['error']}")
+    return "\n".join(lines)
+
+
+def plot_confusion_matrices(result, path=None):
+    """Row-normalised confusion matrices of :func:`evaluate_pipelines`, one panel per pipeline.
+
+    Parameters
+    ----------
+    result : Bunch
+        What :func:`evaluate_pipelines` returned.
+    path : str, path-like or None, default=None
+        Also save the figure there (PNG).
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+    """
+    import matplotlib
+
+    if path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+    from sklearn.metrics import ConfusionMatrixDisplay
+
+    names = list(result.confusion)
+    fig, axes = plt.subplots(1, len(names), figsize=(3.6 * len(names), 3.4), squeeze=False)
+    for ax, (name, row) in zip(axes[0], zip(names, result.table)):
+        cm = result.confusion[name].astype(float)
+        cm = cm / np.maximum(cm.sum(axis=1, keepdims=True), 1)
+        ConfusionMatrixDisplay(cm, display_labels=result.target_names).plot(
+            ax=ax, colorbar=False, values_format=".2f")
+        ax.set_title(f"{name}\nbal. acc. {row['balanced_accuracy']:.2f}")
+    fig.tight_layout()
+    if path is not None:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, dpi=100)
+    return fig

@@ -1,0 +1,194 @@
+"""Shape- and texture-normalised features of a press's loading phase: :class:`ContactProfileFeatures`."""
+
+from __future__ import annotations
+
+import numbers
+
+import cv2
+import numpy as np
+from joblib import Parallel, delayed
+from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
+from sklearn.utils._param_validation import Interval
+from sklearn.utils.validation import check_is_fitted
+
+from ..utils._validation import check_video, check_video_sequence
+
+__all__ = ["ContactProfileFeatures"]
+
+_NAMES = (
+    "log_peak_change",
+    "peak_over_precontact",
+    "rise_frames",
+    "rise_fraction",
+    "hold_fraction",
+    "area_at_peak",
+    "concentration",
+    "area_intensity_slope",
+    "texture_ratio",
+    "early_late_ratio",
+)
+
+
+def _grey_small(video, max_side):
+    video = check_video(video, min_frames=1)
+    h, w = video.shape[1:3]
+    stride = max(1, max(h, w) // max_side)
+    small = video[:, ::stride, ::stride].astype(np.float32)
+    if small.max(initial=0) <= 1.0 and video.dtype.kind == "f":
+        small = small * 255.0
+    return small.mean(axis=-1) if small.ndim == 4 else small
+
+
+def _profile(video, max_side, noise_factor):
+    g = _grey_small(video, max_side)
+    t = len(g)
+    diff = np.abs(g - g[0])  # (T, h, w)
+    curve = diff.reshape(t, -1).mean(axis=1)
+    if t < 3:
+        return np.array([np.log(0.1 + curve.max()), 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0])
+    n_pre = max(2, min(t // 4, 25))
+    base = float(np.median(curve[1:n_pre])) if n_pre > 1 else 0.0
+    i_peak = int(np.argmax(curve))
+    peak = float(curve[i_peak])
+    span = max(peak - base, 1e-6)
+    above = curve - base
+    # loading phase: from 20% to 90% of the rise above the pre-contact level
+    i20 = int(np.argmax(above >= 0.2 * span))
+    i90 = int(np.argmax(above >= 0.9 * span))
+    rise = max(i90 - i20, 0)
+    hold = float(np.mean(above >= 0.5 * span))
+    # pixels that changed beyond the pre-contact noise of each pixel
+    noise = np.median(diff[1:n_pre], axis=0) if n_pre > 1 else np.zeros(diff.shape[1:])
+    thr = noise_factor * (float(np.median(noise)) + 0.5)
+    active = (diff - noise) > thr  # (T, h, w)
+    area = active.reshape(t, -1).mean(axis=1)
+    d_peak = diff[i_peak] - noise
+    conc = float(np.percentile(d_peak, 99) / max(np.mean(np.abs(d_peak)), 1e-6))
+    # how contact area grows against intensity during loading (shape normalised by the log-log slope)
+    load = np.arange(i20, max(i90, i20) + 1)
+    ok = load[(area[load] > 0) & (above[load] > 0)]
+    if len(ok) >= 3 and np.ptp(np.log(above[ok])) > 1e-6:
+        slope = float(np.polyfit(np.log(above[ok]), np.log(area[ok]), 1)[0])
+    else:
+        slope = 0.0
+    lap = np.abs(cv2.Laplacian(d_peak.astype(np.float32), cv2.CV_32F))
+    texture = float(lap.mean() / max(np.mean(np.abs(d_peak)), 1e-6))
+    # early vs late loading: soft bodies keep changing long after first contact
+    mid = i20 + max(rise // 2, 1)
+    early_late = float(above[min(mid, t - 1)] / span)
+    return np.array([np.log(0.1 + peak), peak / max(base, 0.05), float(rise), rise / t, hold,
+                     float(area[i_peak]), conc, slope, texture, early_late])
+
+
+class ContactProfileFeatures(TransformerMixin, BaseEstimator):
+    """Features of a press that normalise away object shape, texture and signal strength.
+
+    From the change of each frame to the first frame (grey, strided to about
+    ``max_side`` pixels on the long side), per video: the peak mean change
+    and its ratio to the video's own pre-contact level (codec and exposure
+    noise), the loading time (frames from 20% to 90% of the rise; soft
+    objects load slowly), the fraction of the video held above half the
+    peak, the contact area at peak and how concentrated the change is, the
+    log-log slope of contact area against intensity during loading (how
+    contact size grows with depth, which Hertz contact ties to hardness
+    whatever the object's radius), the texture ratio (Laplacian energy over
+    mean change), and how far the change has risen halfway through loading.
+
+    Parameters
+    ----------
+    max_side : int, default=80
+        Frames are strided down to about this many pixels on their long side.
+    noise_factor : float, default=3.0
+        A pixel is in contact when its change exceeds its own pre-contact
+        change by this many times the median pre-contact change (+0.5 grey
+        levels for codec quantisation).
+    n_jobs : int or None, default=None
+        Videos processed in parallel (joblib threads).
+
+    Attributes
+    ----------
+    n_features_out_ : int
+        Number of features (10).
+
+    See Also
+    --------
+    sklearn_hardness.preprocessing.contact_curve : The mean change alone.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.features import ContactProfileFeatures
+    >>> video = np.full((20, 32, 32, 3), 120, np.uint8)
+    >>> for t in range(8, 20):
+    ...     video[t, 16 - t // 2:16 + t // 2, 16 - t // 2:16 + t // 2] = 140
+    >>> ContactProfileFeatures().fit_transform([video]).shape
+    (1, 10)
+    """
+
+    _parameter_constraints: dict = {
+        "max_side": [Interval(numbers.Integral, 8, None, closed="left")],
+        "noise_factor": [Interval(numbers.Real, 0, None, closed="neither")],
+        "n_jobs": [numbers.Integral, None],
+    }
+
+    def __init__(self, max_side=80, noise_factor=3.0, n_jobs=None):
+        self.max_side = max_side
+        self.noise_factor = noise_factor
+        self.n_jobs = n_jobs
+
+    @_fit_context(prefer_skip_nested_validation=True)
+    def fit(self, X, y=None):
+        """Check the parameters and the input (stateless otherwise).
+
+        Parameters
+        ----------
+        X : sequence of array-like of shape (T, H, W, 3)
+            Press videos.
+        y : ignored
+
+        Returns
+        -------
+        self : ContactProfileFeatures
+        """
+        check_video_sequence(X)
+        self.n_features_out_ = len(_NAMES)
+        return self
+
+    def transform(self, X):
+        """Compute the features of each video.
+
+        Parameters
+        ----------
+        X : sequence of array-like of shape (T, H, W, 3)
+            Press videos (lengths may differ; one-frame videos give a
+            defined row).
+
+        Returns
+        -------
+        features : ndarray of shape (n_videos, 10), float64
+        """
+        check_is_fitted(self)
+        X = check_video_sequence(X)
+        rows = Parallel(n_jobs=self.n_jobs, prefer="threads")(
+            delayed(_profile)(X[i], self.max_side, self.noise_factor) for i in range(len(X)))
+        return np.vstack(rows)
+
+    def get_feature_names_out(self, input_features=None):
+        """Names of the features.
+
+        Parameters
+        ----------
+        input_features : ignored
+
+        Returns
+        -------
+        names : ndarray of str
+        """
+        check_is_fitted(self)
+        return np.array(_NAMES, dtype=object)
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.two_d_array = False
+        tags.requires_fit = True
+        return tags

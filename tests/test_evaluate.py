@@ -1,0 +1,114 @@
+"""Tests of object-disjoint evaluation (``evaluate_pipelines``) and the ``evaluate`` CLI."""
+
+import json
+
+import numpy as np
+import pytest
+from sklearn.base import BaseEstimator, ClassifierMixin
+from sklearn.dummy import DummyClassifier
+from sklearn.pipeline import make_pipeline
+from sklearn.preprocessing import FunctionTransformer
+from sklearn.utils import Bunch
+
+from sklearn_hardness._cli import main
+from sklearn_hardness.datasets import make_presses
+from sklearn_hardness.experiments import (
+    evaluate_pipelines,
+    format_evaluation,
+    make_peak_change_baseline,
+    peak_contact_change,
+    run_model_baselines,
+)
+
+
+@pytest.fixture(scope="module")
+def tiny():
+    return make_presses("everyday", n_per_class=2, n_objects=12, class_ratio=[1, 1, 1],
+                       image_size=(32, 40), codec=None, random_state=0)
+
+
+class _Fails(BaseEstimator, ClassifierMixin):
+    def fit(self, X, y):
+        raise RuntimeError("boom")
+
+
+def test_folds_are_object_disjoint_and_table_is_complete(tiny):
+    result = evaluate_pipelines(tiny, {"dummy": DummyClassifier(strategy="most_frequent")}, cv=3)
+    assert [r["pipeline"] for r in result.table] == ["peak_change", "dummy"]
+    tests = np.concatenate(result.folds)
+    assert np.array_equal(np.sort(tests), np.arange(len(tiny.target)))  # every press tested once
+    for test in result.folds:
+        train = np.setdiff1d(np.arange(len(tiny.target)), test)
+        assert not set(tiny.object_id[test]) & set(tiny.object_id[train])
+    for row in result.table:
+        lo, hi = row["balanced_accuracy_ci"]
+        assert lo <= row["balanced_accuracy"] <= hi and row["n_folds"] == 3
+        assert row["mae"] is not None and row["fit_predict_seconds"] > 0
+        assert result.confusion[row["pipeline"]].sum() == len(tiny.target)
+    # a constant prediction scores chance exactly on every fold
+    np.testing.assert_allclose(result.fold_scores["dummy"], 1 / 3)
+    text = format_evaluation(result)
+    assert "object-disjoint 3-fold CV, 12 objects" in text and "dummy" in text
+
+
+def test_failing_pipeline_is_reported_not_dropped(tiny):
+    with pytest.warns(RuntimeWarning, match="boom"):
+        result = evaluate_pipelines(tiny, {"bad": _Fails()}, cv=3, error_score=np.nan)
+    row = result.table[1]
+    assert np.isnan(row["balanced_accuracy"]) and "boom" in row["error"]
+    assert "error: RuntimeError: boom" in format_evaluation(result)
+    with pytest.raises(RuntimeError, match="boom"):
+        evaluate_pipelines(tiny, {"bad": _Fails()}, cv=3)
+
+
+def test_bad_input(tiny):
+    with pytest.raises(ValueError, match="fewer than cv=5 objects"):
+        evaluate_pipelines(tiny, [], cv=5)
+    with pytest.raises(ValueError, match="unknown pipeline"):
+        evaluate_pipelines(tiny, ["resnet"], cv=3)
+    no_groups = Bunch(**tiny)
+    no_groups.object_id = None
+    with pytest.raises(ValueError, match="no object_id"):
+        evaluate_pipelines(no_groups, [], cv=3)
+    with pytest.raises(FileNotFoundError, match="neither a simulator preset"):
+        evaluate_pipelines("/nonexistent/manifest.csv", [], cv=3)
+    with pytest.raises(ValueError, match="cv"):  # InvalidParameterError
+        evaluate_pipelines(tiny, [], cv=1)
+
+
+def test_peak_change_baseline_uses_the_contact_signal(tiny):
+    feature = peak_contact_change(tiny.videos)
+    assert feature.shape == (len(tiny.target), 1) and np.all(np.isfinite(feature))
+    still = np.full((5, 16, 16, 3), 90, np.uint8)
+    pressed = still.copy()
+    pressed[2:, 4:12, 4:12] = 140
+    assert peak_contact_change([pressed])[0, 0] > peak_contact_change([still])[0, 0] + 2
+    base = make_peak_change_baseline()
+    assert base[-1].class_weight == "balanced"
+    # on the shuffled feature (no signal) the same pipeline drops to about chance
+    rng = np.random.default_rng(0)
+    shuffled = make_pipeline(FunctionTransformer(lambda X: rng.permutation(peak_contact_change(X))),
+                             *[s for _, s in base.steps[1:]])
+    real = evaluate_pipelines(tiny, {}, cv=3).table[0]["balanced_accuracy"]
+    noise = evaluate_pipelines(tiny, {"shuffled": shuffled}, cv=3, baseline=False).table[0]
+    assert real > noise["balanced_accuracy"]
+
+
+def test_run_model_baselines_grouped_cv(tiny):
+    result = run_model_baselines(tiny, models=[("dummy", DummyClassifier())], cv=3)
+    assert [r["pipeline"] for r in result.table] == ["peak_change", "dummy"]
+
+
+def test_cli_evaluate_on_a_manifest(tmp_path, capsys):
+    root = tmp_path / "presses"
+    assert main(["simulate", "--preset", "everyday", "--out", str(root), "--n-per-class", "1",
+                 "--image-size", "32", "40", "--format", "avi", "--codec", "none"]) == 0
+    out = tmp_path / "eval"
+    assert main(["evaluate", str(root / "manifest.csv"), "--pipelines", "--cv", "3", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "object-disjoint 3-fold CV, 42 objects, 42 presses" in text and "peak_change" in text
+    assert (out / "confusion_matrices.png").stat().st_size > 1000
+    saved = json.loads((out / "evaluation.json").read_text())
+    assert saved["target_names"] == ["hard", "moderate", "soft"] and len(saved["fold_scores"]["peak_change"]) == 3
+    assert main(["evaluate", str(tmp_path / "missing.csv"), "--pipelines"]) == 2
+    assert "neither a simulator preset" in capsys.readouterr().err
