@@ -152,6 +152,15 @@ def _cases(files):
         "manifest cache_size=-1": (
             lambda: load_press_videos(f["empty"], cache_size=-1), InvalidParameterError, "'cache_size' parameter"
         ),
+        "lazy videos loader not callable": (
+            lambda: LazyVideoSequence("read_video", ["a.avi"]), TypeError, "loader must be callable"
+        ),
+        "lazy videos keys is one path": (
+            lambda: LazyVideoSequence(read_video, "a.avi"), TypeError, "keys must be a sequence"
+        ),
+        "lazy videos cache_size=-1": (
+            lambda: LazyVideoSequence(read_video, ["a.avi"], cache_size=-1), ValueError, "cache_size must be"
+        ),
         "lazy videos index out of range": (
             lambda: LazyVideoSequence(read_video, [r / "good.avi"])[3], IndexError, "out of range"
         ),
