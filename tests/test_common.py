@@ -244,7 +244,7 @@ EXPECTED_FAILED_CHECKS = {
 
 @pytest.fixture(autouse=True)
 def _one_torch_thread():
-    # On a loaded 2-core machine two torch threads made a 5-epoch fit 4-15x slower (spinning).
+    # Under load on 2 cores, 2 torch threads made check_classifiers_train 4-15x slower than 1.
     before = torch.get_num_threads()
     torch.set_num_threads(1)
     yield

@@ -43,6 +43,13 @@ class LazyVideoSequence(Sequence):
     """
 
     def __init__(self, loader, keys, cache_size=0):
+        # not an estimator: a container checks its arguments when it is built
+        if not callable(loader):
+            raise TypeError(f"loader must be callable (key -> video), got {type(loader).__name__}.")
+        if isinstance(keys, (str, bytes)):
+            raise TypeError(f"keys must be a sequence of keys (paths, seeds, ...), not a single {type(keys).__name__}.")
+        if isinstance(cache_size, (bool, np.bool_)) or not isinstance(cache_size, numbers.Integral) or cache_size < 0:
+            raise ValueError(f"cache_size must be an integer >= 0, got {cache_size!r}.")
         self.loader = loader
         self.keys = list(keys)
         self.cache_size = int(cache_size)

@@ -148,8 +148,11 @@ def read_video(path, *, max_frames=None):
     if path.suffix.lower() == ".npy":
         try:
             arr = np.load(path, allow_pickle=False, mmap_mode="r")
-        except ValueError as exc:
-            raise ValueError(f"Could not read '{path}' as a .npy video: {exc}") from None
+        except (ValueError, EOFError, OSError) as exc:  # truncated or empty files raise EOFError
+            raise ValueError(
+                f"Could not read '{path}' as a .npy video (corrupt or truncated file): "
+                f"{type(exc).__name__}: {exc}"
+            ) from None
         arr = check_video(arr, name=f"'{path}'", allow_float=False)
         if arr.shape[-1] == 1:
             arr = np.repeat(arr, 3, axis=-1)
