@@ -5,10 +5,10 @@ Model baselines: five presses per object
 
 The paper (Sec. III-D, Fig. 3) trains each classifier on five presses per
 reference object and tests it on held-out presses. Here we run the same
-protocol on the simulated ``silicone5`` set with
+protocol on simulated ``silicone5`` presses with
 :func:`~sklearn_hardness.experiments.run_model_baselines`, in its ``quick``
-setting so that it runs in a minute on a laptop CPU: smaller images, fewer
-epochs and runs than the paper.
+setting: 20 presses per object instead of 91, smaller images, fewer epochs
+and runs than the paper, so that it is quick to run.
 
 The paper's numbers on its robot data were ConvLSTM 42%, DINOv2NN 38% and
 OFNN 27% (chance: 20%). DINOv2NN needs the pretrained DINOv2-S/14 weights,
@@ -24,6 +24,7 @@ import matplotlib.pyplot as plt
 from sklearn.pipeline import Pipeline
 from transformers import Dinov2Config, Dinov2Model
 
+from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.experiments import (
     baseline_table,
     format_table,
@@ -46,8 +47,10 @@ dinov2_random = Pipeline(
 # Run the baselines
 # -----------------
 # With real weights, pass ``"dinov2nn"`` and ``dinov2_model="path/to/dinov2-small"``.
+# Each run draws 5 training and 5 test presses per object from 20.
+presses = make_presses("silicone5", n_per_class=20, image_size=(96, 128), random_state=0)
 result = run_model_baselines(
-    "silicone5",
+    presses,
     models=("ofnn", "convlstm", ("dinov2nn (random weights)", dinov2_random)),
     n_runs=3,
     quick=True,
