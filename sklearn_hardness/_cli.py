@@ -38,7 +38,8 @@ def _run_select(args):
     selection = selector.select(data.videos)
     print(f"{'video':>5}  {'label':<12} {'frames':>6}  {'start':>5}  {'peak':>4}  selected")
     for i, idx in enumerate(selection.indices):
-        flag = "" if selection.contact_found[i] else "  (no contact: fallback)"
+        status = selection.status[i]
+        flag = "" if status == "contact" else f"  ({status}{'' if selection.contact_found[i] else ': fallback'})"
         print(
             f"{i:>5}  {data.target_names[data.target[i]]:<12} {len(selection.curves[i]):>6}  "
             f"{selection.contact_start[i]:>5}  {selection.contact_peak[i]:>4}  {np.asarray(idx).tolist()}{flag}"
@@ -50,6 +51,129 @@ def _run_select(args):
         fig = plot_contact_selection(selection, labels=[data.target_names[t] for t in data.target])
         fig.savefig(args.plot, dpi=120)
         print(f"wrote {args.plot}")
+    return 0
+
+
+def _add_record(sub):
+    p = sub.add_parser(
+        "record",
+        help="record one press from a tactile camera and add it to a manifest",
+        description="Record one press from a camera (GelSight Mini, DIGIT or any UVC camera; a video "
+        "file or stream URL also works), write it to OUT/videos/ and append a row to OUT/manifest.csv "
+        "(created with a header when missing) in the format load_press_videos reads. Then report "
+        "whether contact selection finds the contact in it.",
+    )
+    p.add_argument("--source", default="0", help="camera index (default 0), video file or stream URL")
+    p.add_argument("--label", required=True, help="class label of the pressed object (e.g. soft)")
+    p.add_argument("--out", required=True, help="folder of the recordings and manifest.csv")
+    p.add_argument("--object-id", default="", help="which physical object was pressed (default: the label)")
+    p.add_argument("--n-frames", type=int, default=None,
+                   help="frames to record (default 126, 5 s at 25 fps, like GelSight Mini recordings)")
+    p.add_argument("--duration", type=float, default=None, help="seconds to record instead of --n-frames")
+    p.add_argument("--fps", type=float, default=None, help="frame rate to ask of the camera")
+    p.add_argument("--size", type=int, nargs=2, default=None, metavar=("HEIGHT", "WIDTH"),
+                   help="frame size (resized if the camera gives another)")
+    p.add_argument("--warmup", type=int, default=0, help="frames dropped first while exposure settles")
+    p.add_argument("--hardness", default="", help="the label's hardness value, if known")
+    p.add_argument("--hardness-unit", default="", help="e.g. 'Shore 00' or 'mm/N'")
+    p.add_argument("--format", default="avi", choices=["avi", "mp4", "npy"],
+                   help="avi (FFV1, lossless; default), mp4 (mp4v, lossy) or npy")
+    return p
+
+
+_MANIFEST_COLUMNS = ["path", "label", "hardness", "hardness_unit", "object_id", "fps"]
+
+
+def _read_manifest(manifest):
+    """Columns and rows of an existing manifest (empty lists when there is none)."""
+    import csv
+
+    if not manifest.exists() or manifest.stat().st_size == 0:
+        return [], []
+    with open(manifest, newline="", encoding="utf-8-sig") as f:
+        reader = csv.DictReader(f)
+        rows = [{k.strip(): (v or "").strip() for k, v in r.items() if k is not None} for r in reader]
+        return [c.strip() for c in reader.fieldnames or []], rows
+
+
+def _manifest_row(manifest, row):
+    """``row`` completed and checked against the manifest, before anything is recorded.
+
+    The hardness of a label is the same on all its rows, and given on all rows or on
+    none (as load_press_videos requires): an omitted value is taken from the label's
+    earlier rows; a conflicting or missing one is an error.
+    """
+    columns, rows = _read_manifest(manifest)
+    same = [r for r in rows if r.get("label") == row["label"]]
+    for key in ("hardness", "hardness_unit"):
+        known = {r.get(key, "") for r in same} - {""}
+        if not row[key] and known:
+            row[key] = known.pop()
+        elif row[key] and known and known != {row[key]}:
+            raise ValueError(f"{manifest}: label '{row['label']}' has {key} {sorted(known)}, not '{row[key]}'.")
+    if rows and not row["hardness"] and any(r.get("hardness") for r in rows):
+        raise ValueError(f"{manifest} gives the hardness of its other labels: pass --hardness for "
+                         f"'{row['label']}' too.")
+    if rows and row["hardness"] and any(not r.get("hardness") for r in rows):
+        raise ValueError(f"{manifest} has rows without hardness: record without --hardness, or add it there.")
+    missing = [k for k, v in row.items() if v and columns and k not in columns]
+    if missing:
+        raise ValueError(f"{manifest} has no column(s) {missing} for this recording; "
+                         f"its columns are {columns}. Add them or record into another folder.")
+    return columns or _MANIFEST_COLUMNS, row
+
+
+def _append_manifest_row(manifest, columns, row):
+    """Append ``row`` to ``manifest``, writing the header first when the file is new."""
+    import csv
+
+    new = not manifest.exists() or manifest.stat().st_size == 0
+    if not new:
+        with open(manifest, "rb") as f:
+            f.seek(-1, 2)
+            new_line = f.read(1) not in (b"\n", b"\r")
+    with open(manifest, "a", newline="", encoding="utf-8") as f:
+        writer = csv.DictWriter(f, columns, restval="", extrasaction="ignore")
+        if new:
+            writer.writeheader()
+        elif new_line:
+            f.write("\n")
+        writer.writerow(row)
+
+
+def _run_record(args):
+    import warnings
+    from pathlib import Path
+
+    from .io import record_video
+    from .preprocessing import ContactFrameSelector
+
+    source = int(args.source) if args.source.isdigit() else args.source
+    n_frames = args.n_frames if args.n_frames is not None or args.duration is not None else 126
+    out = Path(args.out)
+    (out / "videos").mkdir(parents=True, exist_ok=True)
+    stem = "".join(c if c.isalnum() or c in "-_" else "_" for c in f"{args.label}_{args.object_id or args.label}")
+    number = 0
+    while list((out / "videos").glob(f"{stem}_{number:04d}.*")):
+        number += 1
+    video_path = out / "videos" / f"{stem}_{number:04d}.{args.format}"
+    row = {"path": video_path.relative_to(out).as_posix(), "label": args.label, "hardness": args.hardness,
+           "hardness_unit": args.hardness_unit, "object_id": args.object_id or args.label,
+           "fps": f"{args.fps:g}" if args.fps else ""}
+    columns, row = _manifest_row(out / "manifest.csv", row)  # before recording: no orphan video
+    frames = record_video(source, n_frames=n_frames, duration=args.duration, fps=args.fps,
+                          size=tuple(args.size) if args.size else None, path=video_path,
+                          warmup=args.warmup)
+    _append_manifest_row(out / "manifest.csv", columns, row)
+    print(f"recorded {len(frames)} frames of {frames.shape[2]}x{frames.shape[1]} to {video_path}")
+    print(f"appended to {out / 'manifest.csv'}: {row}")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        s = ContactFrameSelector().select([frames])
+    if s.contact_found[0]:
+        print(f"contact selection: {s.status[0]} from frame {s.contact_start[0]} to {s.contact_peak[0]}")
+    else:
+        print(f"contact selection: {s.status[0]} -- check the press (sklearn-hardness select {out / 'manifest.csv'} --plot curves.png)")
     return 0
 
 
@@ -391,6 +515,7 @@ def _run_benchmark(args):
 
 _SUBCOMMANDS = {
     "select": (_add_select, _run_select),
+    "record": (_add_record, _run_record),
     "simulate": (_add_simulate, _run_simulate),
     "reproduce": (_add_reproduce, _run_reproduce),
     "benchmark": (_add_benchmark, _run_benchmark),

@@ -8,8 +8,10 @@ import warnings
 import cv2
 import numpy as np
 from joblib import Parallel, delayed
-from sklearn.base import BaseEstimator, TransformerMixin
+from scipy.ndimage import median_filter
+from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
 from sklearn.utils import Bunch
+from sklearn.utils._param_validation import Interval, StrOptions
 from sklearn.utils.validation import check_is_fitted
 
 from ..utils._validation import check_video, check_video_sequence
@@ -22,6 +24,26 @@ _CURVE_SIDE = 80
 # Auto threshold: baseline + max(_NOISE_FACTOR * noise, _RELATIVE * (peak - baseline)).
 _NOISE_FACTOR = 6.0
 _RELATIVE = 0.05
+# Strong contacts (markers, uncompressed sensors: the simulator's 18-21 levels) rise this many
+# levels over the mean curve's quiet level; weaker ones (real marker-less presses, 1.5-3 levels
+# at peak over ~0.75-1 of codec noise) go to the weak-contact test, whose smoothed, localised
+# curve also places their start and peak better on a compressed plateau that steps at key frames.
+_STRONG_CONTRAST = 2.0
+# Weak contacts (compressed, marker-less streams) are tested on a localised curve: the mean
+# of the most-changed _LOCAL_TOP of a grid of _LOCAL_CELLS x _LOCAL_CELLS cells, so a small
+# sharp contact is not diluted by the pad, running-median smoothed over _SMOOTH frames
+# (codec key-frame dips and one-frame glitches go), against its own _BASE_QUANTILE level
+# (the quiet part of the video, robust to the codec's rise over the first frames).
+_LOCAL_CELLS = 8
+_LOCAL_TOP = 0.1
+_SMOOTH = 5
+_BASE_QUANTILE = 0.2
+# A weak contact must lift the localised curve to this multiple of its quiet level.
+_MIN_RATIO = 1.4
+# Weak contact starts where the smoothed localised curve passes this fraction of its rise
+# and peaks where it first comes within _WEAK_PEAK_TOLERANCE of its rise from the top.
+_WEAK_START = 0.25
+_WEAK_PEAK_TOLERANCE = 0.2
 # The peak (maximum deformation) is the first frame within this fraction of the
 # contrast (or the noise) of the maximum: on a plateau, argmax would pick a noisy frame.
 _PEAK_TOLERANCE = 0.02
@@ -128,17 +150,55 @@ def contact_curve(video, *, roi=None):
     [0.0, 0.0, 4.0]
     """
     video = check_video(video, min_frames=1)
-    rows, cols = _roi_slices(video.shape[1:3], roi, "video")
+    return _curves(video, roi, "video")[0]
+
+
+def _curves(video, roi, name):
+    """The contact curve and the localised curve of one validated video.
+
+    The localised curve is, per frame, the mean residual of the most-changed
+    ``_LOCAL_TOP`` of a grid of cells over the (strided) frame.
+    """
+    rows, cols = _roi_slices(video.shape[1:3], roi, name)
     video = video[:, rows, cols]
     h, w = video.shape[1:3]
     stride = max(1, max(h, w) // _CURVE_SIDE)
-    small = _as_float255(video[:, ::stride, ::stride], "video")
+    small = _as_float255(video[:, ::stride, ::stride], name)
+    t, h, w = small.shape[:3]
     resid = _illumination_residual(small)
-    return resid.mean(axis=(1, 2), dtype=np.float64)
+    curve = resid.mean(axis=(1, 2), dtype=np.float64)
+    cell = max(1, -(-max(h, w) // _LOCAL_CELLS))  # ceil: at most _LOCAL_CELLS cells a side
+    ny, nx = max(1, h // cell), max(1, w // cell)
+    pixels = resid.mean(axis=2).reshape(t, h, w)[:, : ny * cell, : nx * cell]
+    cells = pixels.reshape(t, ny, min(cell, h), nx, min(cell, w)).mean(axis=(2, 4)).reshape(t, -1)
+    n_top = max(1, int(round(_LOCAL_TOP * cells.shape[1])))
+    local = np.partition(cells, -n_top, axis=1)[:, -n_top:].mean(axis=1, dtype=np.float64)
+    return curve, local
 
 
-def _locate_contact(curve, threshold, n_baseline, min_contrast):
-    """Contact start, peak, the threshold used and whether contact was found."""
+def _min_frames_auto(n_baseline):
+    """Fewest frames the automatic threshold needs: the first, the baseline and two more."""
+    return n_baseline + 3
+
+
+def _smooth(curve):
+    """Running median over ``_SMOOTH`` frames of all but the first (reference) frame."""
+    out = curve.copy()
+    if len(curve) > 2:
+        out[1:] = median_filter(curve[1:], size=min(_SMOOTH, len(curve) - 1), mode="nearest")
+    return out
+
+
+def _mean_curve_peak(curve, n_baseline):
+    """Peak, baseline level, noise and contrast of the mean curve.
+
+    The baseline is the ``n_baseline`` frames after the first, but no lower
+    than the quiet level of the whole video and with at least the video's
+    frame-to-frame noise: a compressed stream changes least in its first
+    frames (the codec copies the first frame) and fluctuates later. The peak
+    is the first frame within the tolerance of the maximum (on a plateau,
+    argmax would pick a noisy frame).
+    """
     top = int(np.argmax(curve))
     n_base = min(n_baseline, top - 1)
     if n_base >= 1:
@@ -147,34 +207,69 @@ def _locate_contact(curve, threshold, n_baseline, min_contrast):
         noise = float(1.4826 * np.median(np.abs(base - level))) if n_base >= 2 else 0.0
     else:
         level, noise = 0.0, 0.0
+    if len(curve) > 2:
+        smooth = _smooth(curve)
+        level = max(level, float(np.quantile(smooth[1:], _BASE_QUANTILE)))
+        noise = max(noise, float(1.4826 * np.median(np.abs(curve[1:] - smooth[1:]))))
     contrast = float(curve[top]) - level
     tolerance = max(_PEAK_TOLERANCE * contrast, _NOISE_FACTOR * noise)
     peak = int(np.flatnonzero(curve[: top + 1] >= curve[top] - tolerance)[0])
-    if threshold == "auto":
-        tau = level + max(_NOISE_FACTOR * noise, _RELATIVE * contrast)
-        found = peak > 0 and contrast >= min_contrast and contrast > 2 * _NOISE_FACTOR * noise
-    else:
-        tau = float(threshold)
-        found = peak > 0 and curve[peak] > tau
-    if not found:
-        return 0, peak, tau, False
-    # Contact starts at the first frame of the last run above the threshold that
-    # ends at the peak: an isolated noisy frame earlier does not count.
+    return peak, level, noise, contrast
+
+
+def _locate_weak(local, min_contrast):
+    """Start, peak and found on the smoothed localised curve (weak contacts in compressed video)."""
+    smooth = _smooth(local)
+    quiet = float(np.quantile(smooth[1:], _BASE_QUANTILE))
+    top = int(np.argmax(smooth))
+    rise = float(smooth[top]) - quiet
+    found = top > 0 and rise >= min_contrast and smooth[top] >= _MIN_RATIO * quiet
+    peak = int(np.flatnonzero(smooth[: top + 1] >= smooth[top] - _WEAK_PEAK_TOLERANCE * rise)[0])
+    return _last_run_start(smooth, peak, quiet + _WEAK_START * rise), peak, found
+
+
+def _last_run_start(curve, peak, tau):
+    """First frame of the last run above ``tau`` that ends at ``peak``.
+
+    An isolated noisy frame earlier does not count.
+    """
     below = np.flatnonzero(curve[: peak + 1] <= tau)
-    start = int(below[-1] + 1) if below.size else 0
-    return start, peak, tau, True
+    return int(below[-1] + 1) if below.size else 0
 
 
-def _select_one(video, *, k, threshold, n_baseline, min_contrast, roi):
-    """Selection of one validated video: (indices, start, peak, threshold, found, curve)."""
-    curve = contact_curve(video, roi=roi)
-    start, peak, tau, found = _locate_contact(curve, threshold, n_baseline, min_contrast)
-    if not found:
+def _locate_contact(curve, local, threshold, n_baseline, min_contrast):
+    """Contact start, peak, the threshold used and the outcome (one of ``_STATUSES``)."""
+    if threshold == "auto" and len(curve) < _min_frames_auto(n_baseline):
+        return 0, len(curve) - 1, np.nan, "too short"
+    peak, level, noise, contrast = _mean_curve_peak(curve, n_baseline)
+    if threshold != "auto":
+        tau = float(threshold)
+        if peak > 0 and curve[peak] > tau:
+            return _last_run_start(curve, peak, tau), peak, tau, "contact"
+        return 0, peak, tau, "no contact"
+    # strong contacts (uncompressed sensors, markers): the mean curve against its first frames
+    tau = level + max(_NOISE_FACTOR * noise, _RELATIVE * contrast)
+    if peak > 0 and contrast >= _STRONG_CONTRAST and contrast > 2 * _NOISE_FACTOR * noise:
+        return _last_run_start(curve, peak, tau), peak, tau, "contact"
+    start, peak_weak, found = _locate_weak(local, min_contrast)
+    if found:
+        return start, peak_weak, np.nan, "weak contact"
+    return 0, peak, tau, "no contact"
+
+
+_STATUSES = ("contact", "weak contact", "no contact", "too short")
+
+
+def _select_one(video, *, k, threshold, n_baseline, min_contrast, roi, name="video"):
+    """Selection of one validated video: (indices, start, peak, threshold, status, curve)."""
+    curve, local = _curves(video, roi, name)
+    start, peak, tau, status = _locate_contact(curve, local, threshold, n_baseline, min_contrast)
+    if status in ("no contact", "too short"):
         # Fallback: spread the frames from the first frame to the frame of the
         # largest change, or over the whole video if nothing changes at all.
         start, peak = 0, (peak if peak > 0 else len(curve) - 1)
     indices = np.rint(np.linspace(start, peak, k)).astype(int)
-    return indices, start, peak, tau, found, curve
+    return indices, start, peak, tau, status, curve
 
 
 class ContactFrameSelector(TransformerMixin, BaseEstimator):
@@ -196,12 +291,25 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
     threshold : "auto" or float, default="auto"
         Change (in 0..255 intensity levels per pixel, as returned by
         :func:`contact_curve`) that marks the start of contact. ``"auto"``
-        needs no tuning on any sensor: with ``b`` the median and ``s`` the
-        robust spread (1.4826 MAD) of the curve over the ``n_baseline``
-        frames after the first, and ``p`` the peak change, the threshold is
-        ``b + max(6 s, 0.1 (p - b))``: well above the sensor's noise and
-        above slow drift, at one tenth of the press's own contrast. The
-        paper's value (1400) is in its own units and does not carry over.
+        needs no tuning on any sensor and takes two steps. First, strong
+        contacts: with ``b`` the median and ``s`` the robust spread (1.4826
+        MAD) of the curve over the ``n_baseline`` frames after the first,
+        and ``p`` the peak change, contact is found when ``p - b`` is at
+        least 2 levels and more than ``12 s``, and starts where the curve
+        passes ``b + max(6 s, 0.05 (p - b))``: well above the sensor's noise
+        and above slow drift, at 5% of the press's own contrast. Second,
+        weak contacts (compressed, marker-less streams, soft objects): the
+        most-changed tenth of an 8x8 grid of cells is averaged per frame, so
+        a small sharp contact is not diluted by the pad, smoothed by a
+        running median of 5 frames (codec key-frame dips and one-frame
+        glitches go), and compared with its own 20th percentile ``q`` (the
+        quiet part of the video, which the codec's slow rise over the first
+        frames does not bias as it does the first frames): contact is found
+        when its peak ``m`` is at least ``1.4 q`` and ``m - q >=
+        min_contrast``; it starts where the smoothed curve passes
+        ``q + 0.25 (m - q)`` and peaks where it first comes within 20% of
+        ``m - q`` of ``m``. The paper's value (1400) is in its own units and
+        does not carry over.
     subtract_first : bool, default=True
         Output the selected frames minus the first frame of the video (in
         [-1, 1]), as the paper does; if False, output the raw frames (in
@@ -224,10 +332,14 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         them.
     n_baseline : int, default=5
         Frames after the first used to measure the noise level for
-        ``threshold="auto"``; they must precede contact.
-    min_contrast : float, default=1.0
-        With ``threshold="auto"``, a peak change smaller than this (0..255
-        levels) above the baseline counts as no contact.
+        ``threshold="auto"``; they must precede contact. With
+        ``threshold="auto"``, videos of fewer than ``n_baseline + 3`` frames
+        are reported as too short (see Notes).
+    min_contrast : float, default=0.3
+        With ``threshold="auto"``, the smallest rise (0..255 levels) of the
+        weak-contact curve over its quiet level that counts as contact; it
+        keeps videos that barely change (a constant picture, quantisation
+        noise) from being reported as contact.
     n_jobs : int or None, default=None
         Videos processed in parallel (joblib threads; OpenCV and NumPy
         release the GIL). ``None`` means 1, ``-1`` all cores.
@@ -237,7 +349,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
     selection_ : :class:`~sklearn.utils.Bunch`
         What :meth:`select` found on the videos given to :meth:`fit`
         (``indices``, ``contact_start``, ``contact_peak``, ``contact_found``,
-        ``threshold``, ``curves``).
+        ``status``, ``threshold``, ``curves``).
     n_frames_out_ : int
         ``n_between + 2``.
     frame_shape_ : tuple of int
@@ -257,7 +369,20 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
     - *A press that peaks within one frame* (or fewer frames than ``k``
       between start and peak): indices repeat (``np.rint(np.linspace(start,
       peak, k))``), so the output still has ``k`` frames.
-    - *Never reaches contact*: see ``on_no_contact``.
+    - *Never reaches contact*: see ``on_no_contact``. A video of noise,
+      drift and codec artefacts only is reported as no contact.
+    - *Weak contact in a compressed stream* (peak only about twice the
+      pre-contact level): found by the second step of ``threshold="auto"``;
+      its ``status`` is ``"weak contact"`` and its ``threshold`` NaN (the
+      test ran on the localised curve, not on :func:`contact_curve`). The
+      quiet level is a percentile over the video, so at least a fifth of
+      the frames must be free of contact (before it, or after release).
+    - *Too short* (fewer than ``n_baseline + 3`` frames, e.g. truncated
+      recordings of 3-7 frames) with ``threshold="auto"``: there is no
+      baseline to measure noise against, so the status is ``"too short"``,
+      the frames are spread over the whole video and the video counts like
+      one that never reaches contact (warning or error, ``on_no_contact``).
+      A numeric ``threshold`` needs no baseline and still applies.
     - *Videos of different lengths* are fine; different frame sizes need
       ``output_size``.
     - A single-frame video, NaN/inf frames, float frames outside [0, 1] and
@@ -290,7 +415,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         color="rgb",
         on_no_contact="fallback",
         n_baseline=5,
-        min_contrast=1.0,
+        min_contrast=0.3,
         n_jobs=None,
     ):
         self.n_between = n_between
@@ -304,48 +429,37 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         self.min_contrast = min_contrast
         self.n_jobs = n_jobs
 
-    # ------------------------------------------------------------------ params
-    def _validate_params(self):
-        if isinstance(self.n_between, bool) or not isinstance(self.n_between, numbers.Integral) or self.n_between < 0:
-            raise ValueError(f"n_between must be an integer >= 0, got {self.n_between!r}.")
-        if isinstance(self.threshold, str):
-            if self.threshold != "auto":
-                raise ValueError(f"threshold must be 'auto' or a number, got {self.threshold!r}.")
-        elif (
-            isinstance(self.threshold, bool)
-            or not isinstance(self.threshold, numbers.Real)
-            or not np.isfinite(self.threshold)
-            or self.threshold < 0
+    _parameter_constraints: dict = {
+        "n_between": [Interval(numbers.Integral, 0, None, closed="left")],
+        "threshold": [StrOptions({"auto"}), Interval(numbers.Real, 0, None, closed="left")],
+        "subtract_first": ["boolean"],
+        "output_size": [None, tuple, list],
+        "roi": [None, tuple, list],
+        "color": [StrOptions({"rgb", "gray"})],
+        "on_no_contact": [StrOptions({"fallback", "raise"})],
+        "n_baseline": [Interval(numbers.Integral, 1, None, closed="left")],
+        "min_contrast": [Interval(numbers.Real, 0, None, closed="left")],
+        "n_jobs": [numbers.Integral, None],
+    }
+
+    def _check_sizes(self):
+        """What the constraint table cannot say: the contents of ``output_size`` and ``roi``."""
+        size = self.output_size
+        if size is not None and (
+            len(size) != 2
+            or not all(isinstance(v, numbers.Integral) and not isinstance(v, bool) and v >= 2 for v in size)
         ):
-            raise ValueError(f"threshold must be 'auto' or a number >= 0, got {self.threshold!r}.")
-        if self.output_size is not None:
-            size = self.output_size
-            if (
-                not isinstance(size, (tuple, list))
-                or len(size) != 2
-                or not all(isinstance(s, numbers.Integral) and not isinstance(s, bool) and s >= 2 for s in size)
-            ):
-                raise ValueError(f"output_size must be None or (height, width) with ints >= 2, got {size!r}.")
-        if self.roi is not None:
-            roi = self.roi
-            if (
-                not isinstance(roi, (tuple, list))
-                or len(roi) != 4
-                or not all(isinstance(v, numbers.Real) and 0 <= v <= 1 for v in roi)
-                or not (roi[0] < roi[1] and roi[2] < roi[3])
-            ):
-                raise ValueError(
-                    "roi must be None or (top, bottom, left, right) fractions in [0, 1] with "
-                    f"top < bottom and left < right, got {roi!r}."
-                )
-        if self.color not in ("rgb", "gray"):
-            raise ValueError(f"color must be 'rgb' or 'gray', got {self.color!r}.")
-        if self.on_no_contact not in ("fallback", "raise"):
-            raise ValueError(f"on_no_contact must be 'fallback' or 'raise', got {self.on_no_contact!r}.")
-        if isinstance(self.n_baseline, bool) or not isinstance(self.n_baseline, numbers.Integral) or self.n_baseline < 1:
-            raise ValueError(f"n_baseline must be an integer >= 1, got {self.n_baseline!r}.")
-        if not isinstance(self.min_contrast, numbers.Real) or not self.min_contrast >= 0:
-            raise ValueError(f"min_contrast must be a number >= 0, got {self.min_contrast!r}.")
+            raise ValueError(f"output_size must be None or (height, width) with ints >= 2, got {size!r}.")
+        roi = self.roi
+        if roi is not None and (
+            len(roi) != 4
+            or not all(isinstance(v, numbers.Real) and not isinstance(v, bool) and 0 <= v <= 1 for v in roi)
+            or not (roi[0] < roi[1] and roi[2] < roi[3])
+        ):
+            raise ValueError(
+                "roi must be None or (top, bottom, left, right) fractions in [0, 1] with "
+                f"top < bottom and left < right, got {roi!r}."
+            )
 
     # --------------------------------------------------------------- selection
     def select(self, X):
@@ -361,9 +475,12 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         selection : :class:`~sklearn.utils.Bunch`
             ``indices`` (n, k) int array of selected frame indices;
             ``contact_start``, ``contact_peak`` (n,) int;
-            ``contact_found`` (n,) bool; ``threshold`` (n,) float (the
-            threshold used, in curve units); ``curves`` list of (T,) float
-            arrays (see :func:`contact_curve`).
+            ``contact_found`` (n,) bool; ``status`` (n,) str, one of
+            ``"contact"``, ``"weak contact"``, ``"no contact"``, ``"too
+            short"`` (see Notes); ``threshold`` (n,) float (the threshold
+            used, in :func:`contact_curve` units; NaN for weak and too-short
+            videos); ``curves`` list of (T,) float arrays (see
+            :func:`contact_curve`).
 
         Raises
         ------
@@ -371,6 +488,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
             With ``on_no_contact="raise"``, if any video never reaches
             contact; or if a video is invalid.
         """
+        self._validate_params()  # select may be called without fit
         return self._run(X, extract=False)[1]
 
     def _run(self, X, extract):
@@ -381,7 +499,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         go straight into one preallocated array, whose shape the first video
         fixes. Returns ``(frames or None, selection)``.
         """
-        self._validate_params()
+        self._check_sizes()
         check_video_sequence(X)
         kwargs = dict(
             k=self.n_between + 2,
@@ -397,7 +515,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         def one(i):
             name = f"X[{i}]"
             video = check_video(X[i], name=name, min_frames=2)
-            results[i] = _select_one(video, **kwargs)
+            results[i] = _select_one(video, name=name, **kwargs)
             if not extract:
                 return
             frames = self._extract(video, results[i][0], name)
@@ -417,26 +535,32 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         # the jobs write into results and out: they must share this process's memory, also
         # when joblib.parallel_config(backend="dask"|"loky") is active around the call
         Parallel(n_jobs=self.n_jobs, require="sharedmem")(delayed(one)(i) for i in range(1, n))
+        status = np.array([r[4] for r in results], dtype=object)
         selection = Bunch(
             indices=np.stack([r[0] for r in results]),
             contact_start=np.array([r[1] for r in results], dtype=int),
             contact_peak=np.array([r[2] for r in results], dtype=int),
             threshold=np.array([r[3] for r in results], dtype=float),
-            contact_found=np.array([r[4] for r in results], dtype=bool),
+            contact_found=np.isin(status, ["contact", "weak contact"]),
+            status=status.astype(str),
             curves=[r[5] for r in results],
         )
-        missing = np.flatnonzero(~selection.contact_found)
-        if missing.size:
-            listed = missing[:20].tolist()
-            more = " ..." if missing.size > 20 else ""
-            if self.on_no_contact == "raise":
-                raise ValueError(
-                    f"{missing.size} of {n} video(s) never reach contact: X{listed}{more}. "
-                    "Lower `threshold`, check the videos, or set on_no_contact='fallback'."
-                )
+        problems = []
+        for what, outcome in [("never reach contact", "no contact"), ("are too short to detect contact "
+                              f"(fewer than {_min_frames_auto(self.n_baseline)} frames)", "too short")]:
+            idx = np.flatnonzero(selection.status == outcome)
+            if idx.size:
+                more = " ..." if idx.size > 20 else ""
+                problems.append((f"{idx.size} of {n} video(s) {what}", f"X{idx[:20].tolist()}{more}"))
+        if problems and self.on_no_contact == "raise":
+            raise ValueError(
+                "; ".join(f"{head}: {which}" for head, which in problems)
+                + ". Lower `threshold`, check the videos, or set on_no_contact='fallback'."
+            )
+        if problems:
             warnings.warn(
-                f"{missing.size} of {n} video(s) never reach contact (X{listed}{more}); their "
-                "frames were spread from the first frame to the frame of largest change.",
+                "; ".join(f"{head} ({which})" for head, which in problems)
+                + "; their frames were spread from the first frame to the frame of largest change.",
                 ContactNotFoundWarning,
                 stacklevel=3,
             )
@@ -462,6 +586,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         return np.ascontiguousarray(frames, dtype=np.float32)
 
     # ------------------------------------------------------------- estimator
+    @_fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
         """Check the parameters and find the contact frames of ``X``.
 
@@ -478,6 +603,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         self.fit_transform(X, y)
         return self
 
+    @_fit_context(prefer_skip_nested_validation=True)
     def fit_transform(self, X, y=None):
         """Fit to ``X`` and return its selected frames, in one pass over the videos.
 

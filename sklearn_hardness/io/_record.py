@@ -1,0 +1,152 @@
+"""Recording presses from a tactile camera (GelSight Mini, DIGIT, any UVC camera) with OpenCV."""
+
+from __future__ import annotations
+
+import numbers
+import os
+import warnings
+from pathlib import Path
+
+import cv2
+import numpy as np
+from sklearn.utils._param_validation import Interval, validate_params
+
+from ._video import _to_rgb, write_video
+
+__all__ = ["record_video"]
+
+
+def _open_capture(source):
+    """An opened ``cv2.VideoCapture`` for a device index, a file or a URL, or a clear error."""
+    if isinstance(source, numbers.Integral):
+        cap = cv2.VideoCapture(int(source))
+        what = (
+            f"camera {int(source)} (device index; on Linux /dev/video{int(source)}). Check that the "
+            "sensor is plugged in, not open in another program, and that you may read it"
+        )
+    else:
+        source = os.fspath(source)
+        if "://" not in source and not Path(source).exists():
+            raise FileNotFoundError(f"Capture source not found: '{source}' (not a file, and not a URL).")
+        cap = cv2.VideoCapture(source)
+        what = f"'{source}': OpenCV cannot decode it (unsupported codec, corrupt file or unreachable URL)"
+    if not cap.isOpened():
+        cap.release()
+        raise OSError(f"Could not open capture source {what}.")
+    return cap
+
+
+@validate_params(
+    {
+        "source": [Interval(numbers.Integral, 0, None, closed="left"), str, os.PathLike],
+        "n_frames": [Interval(numbers.Integral, 1, None, closed="left"), None],
+        "duration": [Interval(numbers.Real, 0, None, closed="neither"), None],
+        "fps": [Interval(numbers.Real, 0, None, closed="neither"), None],
+        "size": [tuple, list, None],
+        "path": [str, os.PathLike, None],
+        "warmup": [Interval(numbers.Integral, 0, None, closed="left")],
+    },
+    prefer_skip_nested_validation=True,
+)
+def record_video(source, *, n_frames=None, duration=None, fps=None, size=None, path=None, warmup=0):
+    """Record one press from a camera, a video file or a stream URL.
+
+    Frames are read with OpenCV's :class:`cv2.VideoCapture`, converted to
+    RGB and, with ``path``, written with :func:`write_video`.
+
+    Parameters
+    ----------
+    source : int, str or path-like
+        A camera's device index (``0`` is the first camera; a GelSight Mini
+        is a UVC camera), a video file, or a stream URL (``rtsp://...``).
+    n_frames : int or None, default=None
+        Frames to record. Give this or ``duration``.
+    duration : float or None, default=None
+        Seconds to record: ``round(duration * fps)`` frames.
+    fps : float or None, default=None
+        Frame rate asked of the camera and stored in the written file.
+        ``None`` uses the rate the source reports (25 if it reports none).
+        Cameras may ignore the request.
+    size : (height, width) or None, default=None
+        Frame size asked of the camera; frames that arrive in another size
+        are resized to it (``cv2.INTER_AREA``). ``None`` keeps the source's
+        size (GelSight Mini streams 240x320).
+    path : str, path-like or None, default=None
+        Also write the frames here (any format :func:`write_video` writes;
+        ``.avi`` is lossless).
+    warmup : int, default=0
+        Frames read and dropped first, while the camera's exposure settles.
+
+    Returns
+    -------
+    frames : ndarray of shape (T, H, W, 3), dtype uint8
+        The recorded frames, RGB. ``T`` is ``n_frames`` unless the source
+        ended first (a file), which gives a warning.
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``source`` is a path that does not exist.
+    OSError
+        If the camera, file or URL cannot be opened.
+    ValueError
+        If neither or both of ``n_frames`` and ``duration`` are given, if
+        ``size`` is malformed, or if the source gives no frame at all.
+
+    See Also
+    --------
+    read_video, write_video
+
+    Examples
+    --------
+    A video file stands in for the camera here:
+
+    >>> import numpy as np, tempfile, os
+    >>> from sklearn_hardness.io import record_video, write_video
+    >>> source = os.path.join(tempfile.mkdtemp(), "camera.avi")
+    >>> write_video(source, np.full((10, 24, 32, 3), 120, np.uint8))
+    >>> record_video(source, n_frames=6, size=(12, 16)).shape
+    (6, 12, 16, 3)
+    """
+    if (n_frames is None) == (duration is None):
+        raise ValueError("Pass exactly one of n_frames and duration (how long to record).")
+    if size is not None and (
+        len(size) != 2 or not all(isinstance(v, numbers.Integral) and not isinstance(v, bool) and v >= 2
+                                  for v in size)
+    ):
+        raise ValueError(f"size must be None or (height, width) with ints >= 2, got {size!r}.")
+    cap = _open_capture(source)
+    try:
+        if fps is not None:
+            cap.set(cv2.CAP_PROP_FPS, float(fps))
+        if size is not None:
+            cap.set(cv2.CAP_PROP_FRAME_HEIGHT, int(size[0]))
+            cap.set(cv2.CAP_PROP_FRAME_WIDTH, int(size[1]))
+        rate = float(fps) if fps is not None else (cap.get(cv2.CAP_PROP_FPS) or 25.0)
+        n = int(n_frames) if n_frames is not None else max(1, int(round(duration * rate)))
+        for _ in range(warmup):
+            if not cap.read()[0]:
+                break
+        frames = []
+        while len(frames) < n:
+            ok, frame = cap.read()
+            if not ok:
+                break
+            frame = _to_rgb(frame, source)
+            if size is not None and frame.shape[:2] != tuple(size):
+                frame = cv2.resize(frame, (int(size[1]), int(size[0])), interpolation=cv2.INTER_AREA)
+            frames.append(frame)
+    finally:
+        cap.release()
+    if not frames:
+        raise ValueError(f"Capture source {source!r} gave no frames (after {warmup} warm-up frames).")
+    if len(frames) < n:
+        warnings.warn(
+            f"Capture source {source!r} ended after {len(frames)} of {n} frames; returning those.",
+            UserWarning,
+            stacklevel=2,
+        )
+    video = np.stack(frames)
+    if path is not None:
+        write_video(path, video, fps=rate)
+    return video

@@ -1,0 +1,121 @@
+import csv
+import warnings
+
+import numpy as np
+import pytest
+from sklearn.utils._param_validation import InvalidParameterError
+
+from sklearn_hardness._cli import main
+from sklearn_hardness.datasets import load_press_videos
+from sklearn_hardness.io import read_video, record_video, write_video
+
+from ._synthetic import synthetic_press
+
+
+@pytest.fixture
+def camera(tmp_path):
+    """A lossless video file standing in for the camera, and its frames."""
+    frames = synthetic_press(n_frames=30, size=(48, 64), contact_start=10, peak=18)
+    path = tmp_path / "camera.avi"
+    write_video(path, frames, fps=25)
+    return path, frames
+
+
+def test_record_from_a_file_source(camera, tmp_path):
+    source, frames = camera
+    out = record_video(source, n_frames=20)
+    np.testing.assert_array_equal(out, frames[:20])  # FFV1: bit-exact, RGB order kept
+    out = record_video(str(source), n_frames=10, warmup=5, path=tmp_path / "copy.avi")
+    np.testing.assert_array_equal(out, frames[5:15])
+    np.testing.assert_array_equal(read_video(tmp_path / "copy.avi"), frames[5:15])
+
+
+def test_record_duration_and_size(camera):
+    source, _ = camera
+    assert record_video(source, duration=0.4, fps=25).shape[0] == 10
+    assert record_video(source, n_frames=3, size=(24, 32)).shape == (3, 24, 32, 3)
+
+
+def test_record_warns_when_the_source_ends_early(camera):
+    source, frames = camera
+    with pytest.warns(UserWarning, match="ended after 30 of 50 frames"):
+        out = record_video(source, n_frames=50)
+    np.testing.assert_array_equal(out, frames)
+    with pytest.raises(ValueError, match="gave no frames"):
+        record_video(source, n_frames=5, warmup=40)
+
+
+def test_record_clear_errors(camera, tmp_path):
+    source, _ = camera
+    with pytest.raises(OSError, match="Could not open capture source camera 97"):
+        record_video(97, n_frames=5)
+    with pytest.raises(FileNotFoundError, match="not found"):
+        record_video(tmp_path / "missing.mp4", n_frames=5)
+    bad = tmp_path / "bad.mp4"
+    bad.write_bytes(b"not a video")
+    with pytest.raises(OSError, match="cannot decode"):
+        record_video(bad, n_frames=5)
+    with pytest.raises(ValueError, match="exactly one of n_frames and duration"):
+        record_video(source)
+    with pytest.raises(ValueError, match="exactly one of n_frames and duration"):
+        record_video(source, n_frames=3, duration=1.0)
+    with pytest.raises(InvalidParameterError, match="'n_frames'"):
+        record_video(source, n_frames=0)
+    with pytest.raises(InvalidParameterError, match="'source'"):
+        record_video(1.5, n_frames=3)
+    with pytest.raises(ValueError, match="size"):
+        record_video(source, n_frames=3, size=(10,))
+
+
+def test_cli_record_appends_to_a_manifest_that_loads(camera, tmp_path, capsys):
+    source, frames = camera
+    out = tmp_path / "presses"
+    main(["record", "--source", str(source), "--label", "soft", "--out", str(out), "--n-frames", "30",
+          "--object-id", "sponge 1", "--hardness", "1.5", "--hardness-unit", "rank"])
+    printed = capsys.readouterr().out
+    assert "contact selection: contact from frame" in printed
+    main(["record", "--source", str(source), "--label", "hard", "--out", str(out), "--n-frames", "12",
+          "--format", "npy", "--hardness", "3"])
+    main(["record", "--source", str(source), "--label", "soft", "--out", str(out), "--n-frames", "30",
+          "--object-id", "sponge 1"])
+    with open(out / "manifest.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert [r["label"] for r in rows] == ["soft", "hard", "soft"]
+    assert rows[0]["path"] == "videos/soft_sponge_1_0000.avi" and rows[2]["path"] == "videos/soft_sponge_1_0001.avi"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no hardness conflict, no missing file
+        data = load_press_videos(out / "manifest.csv")
+    assert data.target_names.tolist() == ["hard", "soft"]
+    assert data.target.tolist() == [1, 0, 1]
+    assert data.object_id.tolist() == ["sponge 1", "hard", "sponge 1"]
+    assert data.hardness.tolist() == [3.0, 1.5] and data.hardness_unit == "rank"  # taken over from row 1
+    np.testing.assert_array_equal(data.videos[0], frames)
+    np.testing.assert_array_equal(data.videos[1], frames[:12])
+
+
+def test_cli_record_into_a_manifest_without_the_column(camera, tmp_path):
+    source, _ = camera
+    out = tmp_path / "presses"
+    out.mkdir()
+    (out / "manifest.csv").write_text("path,label\n")
+    with pytest.raises(ValueError, match=r"no column\(s\) \['object_id'\]"):
+        main(["record", "--source", str(source), "--label", "soft", "--out", str(out), "--n-frames", "5"])
+    assert not list((out / "videos").iterdir())  # checked before recording: no orphan video
+    assert (out / "manifest.csv").read_text() == "path,label\n"
+
+
+def test_cli_record_keeps_hardness_consistent(camera, tmp_path):
+    source, _ = camera
+    out = tmp_path / "presses"
+    args = ["record", "--source", str(source), "--out", str(out), "--n-frames", "5"]
+    main(args + ["--label", "soft", "--hardness", "1"])
+    with pytest.raises(ValueError, match="label 'soft' has hardness \\['1'\\], not '2'"):
+        main(args + ["--label", "soft", "--hardness", "2"])
+    with pytest.raises(ValueError, match="pass --hardness for 'hard'"):
+        main(args + ["--label", "hard"])
+    assert len(list((out / "videos").iterdir())) == 1
+
+
+def test_cli_record_without_a_camera(tmp_path):
+    with pytest.raises(OSError, match="Could not open capture source camera 97"):
+        main(["record", "--source", "97", "--label", "soft", "--out", str(tmp_path / "p")])
