@@ -43,7 +43,7 @@ from sklearn.utils import get_tags
 from sklearn.utils import estimator_checks as ec
 
 from sklearn_hardness.active import ActiveLearner
-from sklearn_hardness.features import DINOv2Features, OpticalFlowFeatures
+from sklearn_hardness.features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
 from sklearn_hardness.models import (
     ConvLSTMClassifier,
     DINOv2NNClassifier,
@@ -79,6 +79,7 @@ ESTIMATORS = {
         lambda: DINOv2Features(model=_tiny_dinov2_backbone(), image_size=28, batch_size=4), "frames"
     ),
     "FrameScaler": (FrameScaler, "frames"),
+    "ContactProfileFeatures": (lambda: ContactProfileFeatures(), "videos"),
     "OFNNClassifier": (_ofnn, "table"),
     "DINOv2NNClassifier": (
         lambda: DINOv2NNClassifier(hidden_units=16, lr=3e-2, max_epochs=5, batch_size=64, random_state=0),
@@ -153,13 +154,8 @@ _SKORCH_INIT = (
     "skorch's NeuralNet.__init__ sets history_, initialized_, virtual_params_ (skorch design, "
     "not ours to change)"
 )
-_NET_UNFITTED = (
-    "predict before fit raises AttributeError ('could not infer the classes'), not sklearn's "
-    "NotFittedError (predict_proba is fine) (#12, models branch)"
-)
 _NET_2D_MESSAGES = {
     "check_no_attributes_set_in_init": _SKORCH_INIT,
-    "check_estimators_unfitted": _NET_UNFITTED,
     "check_n_features_in_after_fitting": (
         "the n_features mismatch message says 'was fitted with', sklearn expects 'is expecting'"
     ),
@@ -205,23 +201,19 @@ EXPECTED_FAILED_CHECKS = {
             input="selected frames (n, k, H, W, C)", owner="models branch"
         ),
         "check_no_attributes_set_in_init": _SKORCH_INIT,
-        "check_estimators_unfitted": _NET_UNFITTED,
         "check_classifiers_one_label": "one-label y fails in the frames check before the label check",
         "check_classifiers_regression_target": _NET_2D_MESSAGES["check_classifiers_regression_target"],
         "check_set_params": _NET_2D_MESSAGES["check_set_params"],
         "check_requires_y_none": _NET_2D_MESSAGES["check_requires_y_none"],
-        "check_video_unfitted_raises": _NET_UNFITTED,
-        "check_video_clone_is_unfitted": _NET_UNFITTED,
+        "check_class_weight_classifiers": _TAGS_SAY_2D.format(
+            input="selected frames (n, k, H, W, C)", owner="models branch"
+        ),
     },
     "OFNNClassifier": {
         **_NET_2D_MESSAGES,
-        "check_video_unfitted_raises": _NET_UNFITTED,
-        "check_video_clone_is_unfitted": _NET_UNFITTED,
     },
     "DINOv2NNClassifier": {
         **_NET_2D_MESSAGES,
-        "check_video_unfitted_raises": _NET_UNFITTED,
-        "check_video_clone_is_unfitted": _NET_UNFITTED,
     },
     "ActiveLearner": {
         "check_estimators_unfitted": "predict before fit raises AttributeError, not NotFittedError (active branch)",

@@ -191,7 +191,7 @@ def test_active_sampling_bad_input():
     data = tiny_presses()
     kw = dict(model="ofnn", n_runs=1, test_classes=[0], verbose=0, **TINY)
     with pytest.raises(ValueError, match="strategy"):
-        run_active_sampling(data, strategies=("variance", "margin"), **kw)
+        run_active_sampling(data, strategies=("variance", "uncertainty"), **kw)
     with pytest.raises(ValueError, match="max_reservoir"):
         run_active_sampling(data, **dict(kw, max_reservoir=1))
     with pytest.raises(ValueError, match="n_test"):

@@ -60,7 +60,7 @@ def test_reproduce_help_and_bad_input(capsys, tmp_path):
     with pytest.raises(ValueError, match="unknown configuration key"):
         main(["reproduce", "--set", "n_iteration=2", "--out", str(tmp_path)])
     with pytest.raises(ValueError, match="strategy"):
-        main(["reproduce", "--strategies", "margin", "--out", str(tmp_path), "--dataset", "x.csv"])
+        main(["reproduce", "--strategies", "uncertainty", "--out", str(tmp_path), "--dataset", "x.csv"])
 
 
 def test_benchmark_subcommand(capsys, monkeypatch):

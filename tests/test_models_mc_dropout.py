@@ -125,6 +125,24 @@ def test_chunking_gives_same_result_without_dropout(case):
     assert chunked.var(axis=0).max() > 0
 
 
+def test_bad_dropout_via_set_params_is_reported_at_use_not_stored_in_the_module(case):
+    # sklearn convention: set_params never raises; the value is checked where it is used.
+    from sklearn.utils._param_validation import InvalidParameterError
+
+    from sklearn_hardness.models._mc_sampling import MCDropout
+
+    cls, kind, kw, X, y, net = case
+    before = [m.p for m in net.module_.modules() if isinstance(m, MCDropout)]
+    net.set_params(dropout=1.5)
+    try:
+        assert [m.p for m in net.module_.modules() if isinstance(m, MCDropout)] == before
+        with pytest.raises(InvalidParameterError, match="'dropout' parameter"):
+            net.predict_proba_samples(X[:2], n_samples=2, random_state=0)
+    finally:
+        net.set_params(dropout=0.2)
+    assert net.predict_proba_samples(X[:2], n_samples=2, random_state=0).shape == (2, 2, 3)
+
+
 def test_seeded_fit_is_reproducible_and_leaves_global_rng(case):
     cls, kind, kw, X, y, net = case
     rng_state = torch.get_rng_state()

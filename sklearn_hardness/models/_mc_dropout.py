@@ -29,7 +29,13 @@ from skorch.callbacks import Callback
 from skorch.dataset import Dataset
 from sklearn.exceptions import NotFittedError
 from sklearn.utils import check_random_state
-from sklearn.utils._param_validation import Interval, Options, StrOptions, validate_parameter_constraints
+from sklearn.utils._param_validation import (
+    Interval,
+    InvalidParameterError,
+    Options,
+    StrOptions,
+    validate_parameter_constraints,
+)
 from sklearn.utils.class_weight import compute_class_weight
 from sklearn.utils.validation import check_consistent_length, column_or_1d
 
@@ -154,18 +160,25 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             self.__dict__["device"] = raw
 
     def set_params(self, **kwargs):
-        if "dropout" in kwargs:
-            validate_parameter_constraints(
-                {"dropout": self._parameter_constraints["dropout"]},
-                {"dropout": kwargs["dropout"]},
-                caller_name=type(self).__name__,
-            )
+        # scikit-learn convention: set_params stores and never raises; a bad value is
+        # reported by the next fit / predict_proba_samples (_check_dropout).
         super().set_params(**kwargs)
         if "dropout" in kwargs and getattr(self, "initialized_", False) and hasattr(self, "module_"):
+            try:
+                self._check_dropout()
+            except InvalidParameterError:
+                return self
             for m in self.module_.modules():
                 if isinstance(m, MCDropout):
                     m.p = float(kwargs["dropout"])
         return self
+
+    def _check_dropout(self):
+        validate_parameter_constraints(
+            {"dropout": self._parameter_constraints["dropout"]},
+            {"dropout": self.dropout},
+            caller_name=type(self).__name__,
+        )
 
     # ------------------------------------------------------------------
     # initialisation and seeding
@@ -505,6 +518,7 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             caller_name=f"{type(self).__name__}.predict_proba_samples",
         )
         X = self._check_predict_X(X)
+        self._check_dropout()
         device = torch.device(self.device)
         if batch_size is None:
             budget = MC_MEMORY_BUDGET.get(device.type, MC_MEMORY_BUDGET["cuda"])
