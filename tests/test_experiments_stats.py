@@ -106,3 +106,53 @@ def test_paper_protocol_runs_everything_and_resumes(tmp_path, capsys):
     # rerun: everything is resumed, nothing recomputed, and verbose=0 prints no progress
     assert run_paper_protocol(out, verbose=0, **kw) == text
     assert (out / "results.jsonl").read_text().splitlines() == lines and capsys.readouterr().err == ""
+
+
+def _stop_record(predictions, test_class=1, per_query=5, n_initial=25):
+    return {
+        "key": {"strategy": "variance", "test_class": test_class, "seed": 0},
+        "initial_indices": list(range(n_initial)),
+        "drawn_indices": [list(range(per_query))] * (len(predictions) - 1),
+        "predictions": predictions,
+    }
+
+
+def test_decision_stop_counts_presses_to_a_settled_decision():
+    from sklearn_hardness.experiments import decision_stop
+
+    rec = _stop_record([[0, 0, 1, 2, 0], [1, 1, 1, 0, 1], [1, 1, 1, 1, 1], [1, 1, 1, 1, 1], [2, 2, 2, 2, 2]])
+    # 4 of 5 agree on class 1 at t=1 and t=2: settled at t=2 after two queries of 5 presses
+    assert decision_stop(rec) == {"iteration": 2, "presses": 35, "accuracy": 1.0, "settled": True}
+    # patience 1: the first iteration whose votes agree enough (4 of 5 at t=1) ...
+    assert decision_stop(rec, patience=1)["iteration"] == 1
+    # ... unless all 5 must agree: then t=2
+    assert decision_stop(rec, threshold=1.0, patience=1)["iteration"] == 2
+    assert decision_stop(rec, patience=1)["accuracy"] == 0.8
+    # a decision that keeps changing runs to the budget and says so
+    flip = _stop_record([[0] * 5, [1] * 5, [0] * 5, [1] * 5])
+    assert decision_stop(flip) == {"iteration": 3, "presses": 40, "accuracy": 1.0, "settled": False}
+    with pytest.raises(ValueError, match="threshold"):
+        decision_stop(rec, threshold=0)
+    with pytest.raises(ValueError, match="patience"):
+        decision_stop(rec, patience=0)
+    with pytest.raises(ValueError, match="predictions"):
+        decision_stop({"key": {"test_class": 0}})
+
+
+def test_paired_table_reports_presses_and_accuracy_at_the_stop():
+    from sklearn_hardness.experiments import ExperimentResult, paired_table
+
+    settled_early = [[1] * 5, [1] * 5, [1] * 5, [1] * 5]
+    wandering = [[0] * 5, [2] * 5, [1] * 5, [1] * 5]
+    recs = []
+    for seed in range(3):
+        for strategy, preds in (("variance", settled_early), ("random", wandering)):
+            r = _stop_record(preds)
+            r["key"] = {"strategy": strategy, "test_class": 1, "seed": seed}
+            r["accuracy"] = [float(np.mean(np.asarray(p) == 1)) for p in preds]
+            recs.append(r)
+    rows = {(r["strategy"], r["metric"]): r for r in paired_table(ExperimentResult(recs))}
+    assert rows["variance", "presses_at_stop"]["mean"] == 30  # 25 initial + 1 query of 5
+    assert rows["random", "presses_at_stop"]["mean"] == 40  # settles at t=3
+    assert rows["variance", "presses_at_stop"]["diff"] == -10
+    assert rows["variance", "accuracy_at_stop"]["mean"] == 1.0

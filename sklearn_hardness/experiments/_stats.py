@@ -11,21 +11,93 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["paired_table", "format_paired_table", "PAIRED_METRICS"]
+__all__ = ["paired_table", "format_paired_table", "PAIRED_METRICS", "decision_stop"]
 
 #: Metrics of :func:`paired_table`: (name, record field, reduction, higher is better).
 #: ``auc`` is the mean of the accuracy over iterations 0..N (trapezoid rule,
 #: normalised to [0, 1]): a strategy that gets there sooner scores higher.
+#: ``presses_at_stop`` and ``accuracy_at_stop`` are the reference presses used
+#: and the test accuracy when :func:`decision_stop` (its defaults) ends the run.
 PAIRED_METRICS = (
     ("accuracy", "accuracy", "final", True),
     ("mae", "mae", "final", False),
     ("auc", "accuracy", "auc", True),
     ("holdout_accuracy", "holdout_accuracy", "final", True),
     ("holdout_mae", "holdout_mae", "final", False),
+    ("presses_at_stop", "predictions", "stop_presses", False),
+    ("accuracy_at_stop", "predictions", "stop_accuracy", True),
 )
 
 
+def decision_stop(record, *, threshold=0.8, patience=2):
+    """Where a run would have stopped: the iteration, presses used and accuracy then.
+
+    The paper always makes ``N`` iterations; a robot stops once its decision
+    on the test object is settled. Replayed on a finished run's record: the
+    *decision* after iteration ``t`` is the class most of the test presses are
+    predicted as, its *agreement* the fraction of them predicted so. The run
+    stops at the first ``t`` where the agreement is at least ``threshold``
+    and the decision was the same in the last ``patience`` iterations
+    (``t`` included; iteration 0 is the initial model), and at the last
+    iteration (the press budget) otherwise. The same rule, on mean MC
+    probabilities instead of votes, is :class:`~sklearn_hardness.active.ActiveLearner`'s
+    ``stop_threshold`` / ``stop_patience``.
+
+    Parameters
+    ----------
+    record : dict
+        One run of :func:`run_active_sampling` (``predictions``,
+        ``initial_indices``, ``drawn_indices`` and ``key["test_class"]``).
+    threshold : float in (0, 1], default=0.8
+        Least fraction of the test presses that agree (4 of 5 at 0.8).
+    patience : int >= 1, default=2
+        Iterations whose decisions must agree.
+
+    Returns
+    -------
+    stop : dict
+        ``iteration`` (0..N), ``presses`` (reference presses pressed up to
+        then: the initial ones and those drawn by the queries so far),
+        ``accuracy`` (fraction of the test presses classified correctly then)
+        and ``settled`` (False when the budget ended the run).
+
+    Examples
+    --------
+    >>> from sklearn_hardness.experiments import decision_stop
+    >>> rec = {"key": {"test_class": 1}, "initial_indices": list(range(10)),
+    ...        "drawn_indices": [[10, 11], [12, 13], [14, 15]],
+    ...        "predictions": [[0, 1, 0], [1, 1, 0], [1, 1, 1], [1, 1, 1]]}
+    >>> decision_stop(rec, threshold=0.6, patience=2)
+    {'iteration': 2, 'presses': 14, 'accuracy': 1.0, 'settled': True}
+    """
+    if not 0 < threshold <= 1:
+        raise ValueError(f"threshold must be in (0, 1], got {threshold!r}.")
+    if int(patience) != patience or patience < 1:
+        raise ValueError(f"patience must be an integer >= 1, got {patience!r}.")
+    preds = record.get("predictions")
+    if not preds:
+        raise ValueError("the record has no 'predictions' (a run of run_active_sampling is needed).")
+    truth = record["key"]["test_class"]
+    decisions, settled = [], False
+    for t, p in enumerate(preds):
+        p = np.asarray(p, dtype=int)
+        counts = np.bincount(p)
+        decisions.append(int(np.argmax(counts)))
+        recent = decisions[-int(patience):]
+        if counts.max() / p.size >= threshold and len(recent) == patience and len(set(recent)) == 1:
+            settled = True
+            break
+    presses = len(record.get("initial_indices", [])) + sum(len(d) for d in record.get("drawn_indices", [])[:t])
+    return {"iteration": t, "presses": int(presses),
+            "accuracy": float(np.mean(np.asarray(preds[t]) == truth)), "settled": bool(settled)}
+
+
 def _value(record, field, reduce):
+    if reduce in ("stop_presses", "stop_accuracy"):
+        if not record.get(field):
+            return np.nan
+        stop = decision_stop(record)
+        return float(stop["presses"] if reduce == "stop_presses" else stop["accuracy"])
     v = record.get(field)
     if v is None or len(v) == 0 or any(x is None for x in v):
         return np.nan
@@ -127,6 +199,8 @@ def paired_table(result, reference="random", metrics=None, level=0.95):
 def _f(x, pct):
     if x is None or not np.isfinite(x):
         return "n/a"
+    if pct is None:
+        return f"{x:.1f}"
     return f"{100 * x:.1f}" if pct else f"{x:.3f}"
 
 
@@ -136,6 +210,8 @@ def format_paired_table(rows, reference="random"):
     lines = []
     for r in rows:
         pct = "accuracy" in r["metric"] or r["metric"] == "auc"
+        if r["metric"] == "presses_at_stop":
+            pct = None  # a count: one decimal
         mean = f"{_f(r['mean'], pct)} [{_f(r['ci_low'], pct)}, {_f(r['ci_high'], pct)}]"
         if "diff" in r:
             diff = f"{'+' if r['diff'] >= 0 else ''}{_f(r['diff'], pct)} [{_f(r['diff_low'], pct)}, " \
