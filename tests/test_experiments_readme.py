@@ -34,3 +34,9 @@ def test_readme_quick_table_is_what_the_code_produces(tmp_path, capsys):
     assert readme.read_text() == before, (
         "README.md's --quick table is not what the code produces; run "
         "`sklearn-hardness reproduce --quick --n-jobs 2 --readme README.md` and commit the result.")
+    # the same table in the docs' "Getting started" page
+    docs_table = os.path.join(ROOT, "docs", "_output", "reproduce_quick.txt")
+    with open(docs_table) as f, open(tmp_path / "out" / "table.txt") as g:
+        assert f.read() == g.read(), (
+            "docs/_output/reproduce_quick.txt is not what the code produces; copy OUT/table.txt of "
+            "`sklearn-hardness reproduce --quick --n-jobs 2 --out OUT` there.")
