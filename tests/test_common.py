@@ -47,6 +47,7 @@ from sklearn_hardness.features import ContactProfileFeatures, DINOv2Features, Op
 from sklearn_hardness.models import (
     ConvLSTMClassifier,
     DINOv2NNClassifier,
+    EnsembleClassifier,
     FrameScaler,
     OFNNClassifier,
 )
@@ -86,6 +87,7 @@ ESTIMATORS = {
         "table",
     ),
     "ConvLSTMClassifier": (lambda: ConvLSTMClassifier(filters=(2,), max_epochs=2, random_state=0), "frames"),
+    "EnsembleClassifier": (lambda: EnsembleClassifier(_ofnn(), n_estimators=2, random_state=0), "table"),
     "ActiveLearner": (
         lambda: ActiveLearner(_ofnn(), initial_epochs=5, epochs_per_query=2, n_mc_samples=4, random_state=0),
         "table",
@@ -214,6 +216,19 @@ EXPECTED_FAILED_CHECKS = {
     },
     "DINOv2NNClassifier": {
         **_NET_2D_MESSAGES,
+    },
+    "EnsembleClassifier": {
+        name: "fit and predict pass X and y to its OFNN members unchanged, so it fails as they do: "
+        + _NET_2D_MESSAGES[name]
+        for name in (
+            "check_n_features_in_after_fitting",
+            "check_classifier_data_not_an_array",
+            "check_classifiers_regression_target",
+            "check_supervised_y_2d",
+            "check_fit2d_1sample",
+            "check_fit2d_predict1d",
+            "check_requires_y_none",
+        )
     },
     "ActiveLearner": {
         "check_estimators_unfitted": "predict before fit raises AttributeError, not NotFittedError (active branch)",

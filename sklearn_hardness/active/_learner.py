@@ -40,6 +40,15 @@ def _is_skorch_net(est):
     return isinstance(est, NeuralNet)
 
 
+def _trains_in_epochs(est):
+    """A skorch net, or an ensemble of them: trained with partial_fit(..., epochs=) (warm start)."""
+    from ..models import EnsembleClassifier
+
+    if isinstance(est, EnsembleClassifier):
+        return _is_skorch_net(est.estimator)
+    return _is_skorch_net(est)
+
+
 def _concat_rows(a, b):
     """Concatenate two row collections of the same kind (arrays, tensors, lists)."""
     if isinstance(a, np.ndarray) and isinstance(b, np.ndarray):
@@ -113,7 +122,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         estimator is a skorch net it is trained with
         ``partial_fit(X, y, classes=classes_, epochs=...)``: the first call
         initialises the (cloned, untrained) net, later calls continue from
-        its current weights and optimizer state (warm start). Any other final
+        its current weights and optimizer state (warm start); so is an
+        :class:`~sklearn_hardness.models.EnsembleClassifier` of skorch nets,
+        member by member. Any other final
         estimator is refit from scratch on each training set (the epoch
         counts are then unused). For a Pipeline, the steps before the last
         are fit once, on the initial presses, and their output for every
@@ -382,7 +393,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
     def _train(self, Xt, y, epochs):
         final = self._final()
         with self._seeded_torch():
-            if _is_skorch_net(final):
+            if _trains_in_epochs(final):
                 # the clone is uninitialised, so the first partial_fit initialises
                 # it; later calls continue (module, optimizer state, history)
                 final.partial_fit(Xt, y, classes=self.classes_, epochs=epochs)

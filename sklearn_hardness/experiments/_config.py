@@ -44,6 +44,9 @@ _COMMON = {
     # each iteration (accuracy on every class, not only the test object's); 0: none
     "n_holdout": 0,
     "n_mc_samples": 50,  # n, MC-dropout passes per query
+    # 0: uncertainty from MC dropout (the paper). k >= 2: from an ensemble of k differently
+    # seeded nets (models.EnsembleClassifier); the strategies see one "pass" per member
+    "n_ensemble": 0,
     "dropout": 0.2,
     "lr": 1e-3,
     "batch_size": None,  # None: the model's default (8 ConvLSTM, 32 MLP heads)
@@ -153,6 +156,9 @@ def check_config(cfg):
         _check_pos_int(cfg, name)
     _check_pos_int(cfg, "n_iterations", minimum=0)
     _check_pos_int(cfg, "n_holdout", minimum=0)
+    _check_pos_int(cfg, "n_ensemble", minimum=0)
+    if cfg["n_ensemble"] == 1:
+        raise ValueError("n_ensemble must be 0 (MC dropout) or at least 2 members, got 1.")
     if cfg.get("input_scale") not in (None, "std"):
         raise ValueError(f"input_scale must be 'std' or None, got {cfg.get('input_scale')!r}.")
     _check_pos_int(cfg, "n_between", minimum=0)
@@ -190,11 +196,17 @@ def _jsonable(value):
     return repr(value)
 
 
+#: Keys added after results files existed, with the value that means "as before": hashed
+#: only when set to something else, so earlier results files stay resumable.
+_LATER_KEYS = {"n_ensemble": 0}
+
+
 def config_hash(config):
     """A short stable hash of a configuration (JSON with sorted keys, SHA-256).
 
     Runs are resumed only under the same hash, so changing any setting starts
     new runs instead of mixing results.
     """
+    config = {k: v for k, v in config.items() if not (k in _LATER_KEYS and v == _LATER_KEYS[k])}
     text = json.dumps(_jsonable(config), sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:12]

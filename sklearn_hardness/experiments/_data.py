@@ -317,6 +317,10 @@ def make_estimator(model, cfg, seed, n_classes, dropout=None):
                       classes=np.arange(n_classes), max_epochs=int(cfg["initial_epochs"]))
         if cfg["batch_size"] is not None:
             kwargs["batch_size"] = int(cfg["batch_size"])
+        if cfg.get("n_ensemble", 0):
+            from ..models import EnsembleClassifier
+
+            return EnsembleClassifier(cls(**kwargs), n_estimators=int(cfg["n_ensemble"]), random_state=int(seed))
         return cls(**kwargs)
     if not isinstance(model, BaseEstimator):
         raise TypeError(

@@ -3,6 +3,8 @@
 * :class:`OFNNClassifier`: MLP head on optical-flow features.
 * :class:`DINOv2NNClassifier`: MLP head on frozen DINOv2 features.
 * :class:`ConvLSTMClassifier`: ConvLSTM trained end to end on selected frames.
+* :class:`EnsembleClassifier`: differently seeded copies of a classifier, whose
+  spread replaces MC dropout as the source of ``predict_proba_samples``.
 
 All three have ``predict_proba_samples(X, n_samples, random_state)`` for
 batched MC-dropout samples, and :func:`is_converged` implements the paper's
@@ -11,6 +13,7 @@ convergence rule.
 
 from ._convergence import check_convergence, is_converged
 from ._convlstm import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
+from ._ensemble import EnsembleClassifier
 from ._mc_dropout import MCDropoutClassifierBase
 from ._mc_sampling import MCDropout
 from ._mlp import DINOv2NNClassifier, MLPHead, OFNNClassifier
@@ -25,6 +28,7 @@ __all__ = [
     "OFNNClassifier",
     "DINOv2NNClassifier",
     "ConvLSTMClassifier",
+    "EnsembleClassifier",
     "MLPHead",
     "ConvLSTMNet",
     "ConvLSTMLayer",
