@@ -292,7 +292,14 @@ def _run_reproduce(args):
     import os
     import time
 
-    from .experiments import comparison_table, format_table, run_active_sampling, save_figures
+    from .experiments import (
+        comparison_table,
+        format_paired_table,
+        format_table,
+        paired_table,
+        run_active_sampling,
+        save_figures,
+    )
 
     config = _parse_set(args.set)
     if args.epochs:
@@ -337,13 +344,24 @@ def _run_reproduce(args):
     print(note)
     with open(os.path.join(args.out, "table.txt"), "w") as f:
         f.write(header + "\n" + table + "\n" + note + "\n")
+    if "random" in cfg["strategies"] and len(cfg["strategies"]) > 1:
+        # strategies on the same (test object, seed) pairs, against random
+        paired = format_paired_table(paired_table(result)) + (
+            "\nConverged runs; differences and p-values over the pairs where both runs converged. "
+            "presses_at_stop / accuracy_at_stop: reference presses used and test accuracy when the "
+            "vote of the test presses is settled (experiments.decision_stop: 80% agree, 2 iterations)."
+        )
+        print(paired)
+        with open(os.path.join(args.out, "paired.txt"), "w") as f:
+            f.write(header + "\n" + paired + "\n")
     if args.readme:
         changed = _write_readme_table(args.readme, table)
         print(f"{'updated' if changed else 'unchanged'}: the table in {args.readme}")
     with open(os.path.join(args.out, "config.json"), "w") as f:
         json.dump({k: v for k, v in cfg.items()}, f, indent=2, default=repr)
     paths = save_figures(result, args.out)
-    print(f"wrote {results_path}, table.txt, config.json and {len(paths)} figures to {args.out} "
+    extra = "paired.txt, " if os.path.exists(os.path.join(args.out, "paired.txt")) else ""
+    print(f"wrote {results_path}, table.txt, {extra}config.json and {len(paths)} figures to {args.out} "
           f"({time.time() - t0:.0f} s)")
     return 0
 

@@ -39,8 +39,10 @@ def test_reproduce_on_a_manifest(manifest, tmp_path, capsys):
         assert name in text
     assert "entropy" not in text.split("humans")[0].split("\n", 2)[2]
     files = set(os.listdir(out))
-    assert {"results.jsonl", "table.txt", "config.json", "accuracy.png", "mae.png", "entropy.png",
-            "variance.png"} <= files
+    assert {"results.jsonl", "table.txt", "paired.txt", "config.json", "accuracy.png", "mae.png",
+            "entropy.png", "variance.png"} <= files
+    paired = (out / "paired.txt").read_text()
+    assert "- random [95% CI]" in paired and "presses_at_stop" in paired and "variance" in paired
     lines = (out / "results.jsonl").read_text().splitlines()
     assert len(lines) == 2 * 5  # strategies x test objects x 1 seed
     cfg = json.loads((out / "config.json").read_text())
