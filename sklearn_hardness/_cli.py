@@ -308,6 +308,12 @@ def _run_reproduce(args):
         return _run_paper_protocol(args, config)
     if args.dinov2_model:
         config["dinov2_model"] = args.dinov2_model
+    # check the strategies and the configuration before anything is written
+    from .experiments._active import _check_strategies
+    from .experiments._config import check_config, get_config
+
+    _check_strategies(args.strategies)
+    check_config(get_config(args.preset or "silicone5", quick=args.quick, **config))
     os.makedirs(args.out, exist_ok=True)
     results_path = os.path.join(args.out, "results.jsonl")
     t0 = time.time()

@@ -335,7 +335,7 @@ _RECORD = '{"key": {"strategy": "variance", "seed": 0}, "accuracy": 1.0}\n'
     [
         ({"strategies": ["uncertainty"]}, "strategy.*'uncertainty'"),
         ({"dataset": "granite"}, "dataset 'granite' is neither a simulator preset"),
-        ({"n_runs": 0}, "n_runs must be an int >= 1"),
+        ({"n_runs": 0}, "'n_runs' parameter of the experiment configuration"),
         ({"model": "svm"}, "unknown model 'svm'"),
     ],
 )
@@ -380,15 +380,9 @@ def test_results_record_with_a_malformed_key_names_the_line(tmp_path):
     [
         (["simulate", "--preset", "granite", "--out", "{tmp}/sim"], ValueError, "Unknown preset 'granite'"),
         (["select", "{tmp}/nope.csv"], FileNotFoundError, "Manifest not found"),
-        pytest.param(
-            ["reproduce", "--quick", "--strategies", "uncertainty", "--out", "{tmp}/rep"],
-            ValueError, "strategy.*'uncertainty'",
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="_cli.py reproduce creates the --out folder before the strategies are "
-                "checked, so a failed run leaves an empty folder (experiments branch)",
-            ),
-        ),
+        (["reproduce", "--quick", "--strategies", "uncertainty", "--out", "{tmp}/rep"], ValueError,
+         "strategy.*'uncertainty'"),
+        (["reproduce", "--quick", "--set", "n_runs=0", "--out", "{tmp}/rep"], ValueError, "'n_runs' parameter"),
     ],
 )
 def test_cli_bad_arguments_fail_before_writing(tmp_path, argv, exc, fragment):

@@ -16,6 +16,7 @@ import json
 import numbers
 
 import numpy as np
+from sklearn.utils._param_validation import Interval, StrOptions, validate_parameter_constraints
 
 __all__ = ["PRESET_CONFIGS", "QUICK_OVERRIDES", "MODEL_NAMES", "get_config", "config_hash"]
 
@@ -143,42 +144,38 @@ def get_config(preset="silicone5", *, quick=False, **overrides):
     return cfg
 
 
-def _check_pos_int(cfg, name, minimum=1):
-    v = cfg[name]
-    if isinstance(v, bool) or not isinstance(v, numbers.Integral) or v < minimum:
-        raise ValueError(f"{name} must be an int >= {minimum}, got {v!r}.")
+def _ints_from(low):
+    return [Interval(numbers.Integral, low, None, closed="left")]
+
+
+#: What each configuration key may hold (scikit-learn's constraint language).
+_CONFIG_CONSTRAINTS = {
+    **{name: _ints_from(1) for name in ("n_initial", "n_per_query", "n_test", "n_mc_samples",
+                                        "initial_epochs", "epochs_per_query", "n_runs")},
+    **{name: _ints_from(0) for name in ("n_iterations", "n_holdout", "n_between", "n_ensemble")},
+    "input_scale": [StrOptions({"std"}), None],
+    "max_reservoir": [*_ints_from(1), None],
+    "dropout": [Interval(numbers.Real, 0.0, 1.0, closed="left")],
+    "convergence_threshold": [StrOptions({"auto"}), Interval(numbers.Real, None, None, closed="neither"), None],
+}
 
 
 def check_config(cfg):
     """Validate a configuration (clear errors before any run starts)."""
-    for name in ("n_initial", "n_per_query", "n_test", "n_mc_samples", "initial_epochs",
-                 "epochs_per_query", "n_runs"):
-        _check_pos_int(cfg, name)
-    _check_pos_int(cfg, "n_iterations", minimum=0)
-    _check_pos_int(cfg, "n_holdout", minimum=0)
-    _check_pos_int(cfg, "n_ensemble", minimum=0)
+    validate_parameter_constraints(
+        _CONFIG_CONSTRAINTS, {k: cfg[k] for k in _CONFIG_CONSTRAINTS}, caller_name="the experiment configuration"
+    )
     if cfg["n_ensemble"] == 1:
         raise ValueError("n_ensemble must be 0 (MC dropout) or at least 2 members, got 1.")
-    if cfg.get("input_scale") not in (None, "std"):
-        raise ValueError(f"input_scale must be 'std' or None, got {cfg.get('input_scale')!r}.")
-    _check_pos_int(cfg, "n_between", minimum=0)
-    if cfg["max_reservoir"] is not None:
-        _check_pos_int(cfg, "max_reservoir")
-        if cfg["max_reservoir"] < cfg["n_per_query"]:
-            raise ValueError(
-                f"max_reservoir (M={cfg['max_reservoir']}) is smaller than the batch of "
-                f"n_per_query={cfg['n_per_query']} new presses per iteration; the training "
-                "subset could not even hold one batch."
-            )
-    d = cfg["dropout"]
-    if isinstance(d, bool) or not isinstance(d, numbers.Real) or not 0.0 <= d < 1.0:
-        raise ValueError(f"dropout must be a float in [0, 1), got {d!r}.")
-    t = cfg["convergence_threshold"]
-    if isinstance(t, str) and t == "auto":
+    if cfg["max_reservoir"] is not None and cfg["max_reservoir"] < cfg["n_per_query"]:
+        raise ValueError(
+            f"max_reservoir (M={cfg['max_reservoir']}) is smaller than the batch of "
+            f"n_per_query={cfg['n_per_query']} new presses per iteration; the training "
+            "subset could not even hold one batch."
+        )
+    if cfg["convergence_threshold"] == "auto":
         # the paper's rule is for the ConvLSTM ("loss > 1 after initial training")
         cfg["convergence_threshold"] = 1.0 if cfg["model"] == "convlstm" else None
-    elif t is not None and (isinstance(t, bool) or not isinstance(t, numbers.Real)):
-        raise ValueError(f"convergence_threshold must be a number or None, got {t!r}.")
     return cfg
 
 

@@ -8,7 +8,7 @@ import numpy as np
 from joblib import Parallel, delayed
 from sklearn.base import BaseEstimator, ClassifierMixin, _fit_context, clone
 from sklearn.utils import check_random_state
-from sklearn.utils._param_validation import HasMethods, Interval
+from sklearn.utils._param_validation import HasMethods, Interval, validate_parameter_constraints
 from sklearn.utils.validation import check_is_fitted
 
 __all__ = ["EnsembleClassifier"]
@@ -189,10 +189,11 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
         proba : ndarray of shape (n_samples or n_estimators, n_X, n_classes)
         """
         check_is_fitted(self, "estimators_")
-        if n_samples is not None and (
-            isinstance(n_samples, bool) or not isinstance(n_samples, numbers.Integral) or n_samples < 1
-        ):
-            raise ValueError(f"n_samples must be a positive int or None, got {n_samples!r}.")
+        validate_parameter_constraints(
+            {"n_samples": [Interval(numbers.Integral, 1, None, closed="left"), None]},
+            {"n_samples": n_samples},
+            caller_name=f"{type(self).__name__}.predict_proba_samples",
+        )
         members = np.stack([np.asarray(m.predict_proba(X), dtype=np.float32) for m in self.estimators_])
         if n_samples is None:
             return members
