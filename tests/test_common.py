@@ -231,7 +231,6 @@ EXPECTED_FAILED_CHECKS = {
         )
     },
     "ActiveLearner": {
-        "check_estimators_unfitted": "predict before fit raises AttributeError, not NotFittedError (active branch)",
         "check_n_features_in_after_fitting": "does not set n_features_in_ (delegates to its estimator)",
         "check_n_features_in": "does not set n_features_in_ (delegates to its estimator)",
         "check_estimators_dtypes": _LEARNER_INT_LABELS,
@@ -243,8 +242,6 @@ EXPECTED_FAILED_CHECKS = {
         "check_supervised_y_2d": "a column-vector y is an error ('y must be 1-D'), not a DataConversionWarning",
         "check_fit2d_predict1d": _NET_2D_MESSAGES["check_fit2d_predict1d"],
         "check_requires_y_none": _NET_2D_MESSAGES["check_requires_y_none"],
-        "check_video_unfitted_raises": "predict before fit raises AttributeError, not NotFittedError (active branch)",
-        "check_video_clone_is_unfitted": "predict before fit raises AttributeError, not NotFittedError (active branch)",
     },
 }
 
