@@ -19,6 +19,7 @@ import numpy as np
 from sklearn.base import BaseEstimator, clone
 from sklearn.utils import Bunch
 
+from ..utils._random import set_random_states
 from ._config import MODEL_INPUTS, MODEL_NAMES
 
 __all__ = ["load_dataset", "prepare_inputs", "make_estimator"]
@@ -298,14 +299,6 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True):
                  data_id=data_id)
 
 
-def _set_random_states(est, seed):
-    params = est.get_params(deep=True)
-    to_set = {k: seed for k in params if k == "random_state" or k.endswith("__random_state")}
-    if to_set:
-        est.set_params(**to_set)
-    return est
-
-
 def make_estimator(model, cfg, seed, n_classes, dropout=None):
     """A fresh classifier for one run: a named model built from ``cfg``, or a seeded clone."""
     dropout = cfg["dropout"] if dropout is None else dropout
@@ -326,7 +319,7 @@ def make_estimator(model, cfg, seed, n_classes, dropout=None):
         raise TypeError(
             f"model must be one of {list(MODEL_NAMES)} or a scikit-learn estimator, got {type(model).__name__}."
         )
-    est = _set_random_states(clone(model), int(seed))
+    est = set_random_states(clone(model), int(seed))
     if dropout is not None and cfg.get("_override_dropout"):
         keys = [k for k in est.get_params(deep=True) if k == "dropout" or k.endswith("__dropout")]
         if keys:

@@ -11,14 +11,9 @@ from sklearn.utils import check_random_state
 from sklearn.utils._param_validation import HasMethods, Interval, validate_parameter_constraints
 from sklearn.utils.validation import check_is_fitted
 
+from ..utils._random import set_random_states
+
 __all__ = ["EnsembleClassifier"]
-
-
-def _seed_member(est, seed):
-    keys = [k for k in est.get_params(deep=True) if k == "random_state" or k.endswith("__random_state")]
-    if keys:
-        est.set_params(**{k: int(seed) for k in keys})
-    return est
 
 
 def _fit_member(est, X, y, fit_params):
@@ -103,7 +98,7 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
     def _new_members(self):
         rs = check_random_state(self.random_state)
         self.seeds_ = rs.randint(0, 2**31 - 1, size=self.n_estimators)
-        return [_seed_member(clone(self.estimator), s) for s in self.seeds_]
+        return [set_random_states(clone(self.estimator), s) for s in self.seeds_]
 
     def _set_classes(self):
         classes = [np.asarray(m.classes_) for m in self.estimators_]
