@@ -48,11 +48,12 @@ def loop_module(net, X, n_samples, batch_size):
         if isinstance(m, MCDropout):
             m.train()
     out = []
+    device = next(module.parameters()).device
     with torch.inference_mode():
         for _ in range(n_samples):
-            parts = [torch.softmax(module(torch.as_tensor(X[i : i + batch_size])), -1)
+            parts = [torch.softmax(module(torch.as_tensor(X[i : i + batch_size], device=device)), -1)
                      for i in range(0, len(X), batch_size)]
-            out.append(torch.cat(parts).numpy())
+            out.append(torch.cat(parts).cpu().numpy())
     module.eval()
     return np.stack(out)
 
@@ -68,7 +69,7 @@ def loop_skorch(net, X, n_samples):
     with torch.inference_mode():
         for _ in range(n_samples):
             loader = net.get_iterator(net.get_dataset(X), training=False)
-            out.append(torch.cat([torch.softmax(net.infer(xb), -1) for xb, _ in loader]).numpy())
+            out.append(torch.cat([torch.softmax(net.infer(xb), -1) for xb, _ in loader]).cpu().numpy())
     module.eval()
     return np.stack(out)
 
@@ -121,7 +122,7 @@ def tiny_dinov2():
     return transformers.Dinov2Model(cfg).eval()
 
 
-def bench_pipelines(n_test, repeat):
+def bench_pipelines(n_test, repeat, device="cpu"):
     """One predict_proba against 50 MC passes for each ready-made pipeline at its defaults."""
     from sklearn_hardness.datasets import make_presses
     from sklearn_hardness.models import make_convlstm_pipeline, make_dinov2nn_pipeline, make_ofnn_pipeline
@@ -133,10 +134,10 @@ def bench_pipelines(n_test, repeat):
     videos = list(data.videos)
     train_v, test_v = [videos[i] for i in train], [videos[i] for i in test]
     pipes = {
-        "make_convlstm_pipeline": make_convlstm_pipeline(max_epochs=2, random_state=0),
-        "make_ofnn_pipeline": make_ofnn_pipeline(max_epochs=2, random_state=0),
+        "make_convlstm_pipeline": make_convlstm_pipeline(max_epochs=2, random_state=0, device=device),
+        "make_ofnn_pipeline": make_ofnn_pipeline(max_epochs=2, random_state=0, device=device),
         "make_dinov2nn_pipeline (tiny backbone)": make_dinov2nn_pipeline(model=tiny_dinov2(), max_epochs=2,
-                                                                         random_state=0),
+                                                                         random_state=0, device=device),
     }
     print(f"\nready-made pipelines at their defaults, {len(test)} test presses, 50 MC passes "
           f"(best of {repeat})")
@@ -164,13 +165,14 @@ def main():
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--skip-convlstm", action="store_true")
     parser.add_argument("--pipelines", action="store_true", help="time the ready-made pipelines instead")
+    parser.add_argument("--device", default="cpu", help="torch device of the nets (cpu, cuda)")
     args = parser.parse_args()
     torch.set_num_threads(args.threads)
     if args.pipelines:
-        bench_pipelines(args.n_test, args.repeat)
+        bench_pipelines(args.n_test, args.repeat, args.device)
         return
     H, W = (int(s) for s in args.size.split("x"))
-    print(f"torch {torch.__version__}, {args.threads} thread(s), "
+    print(f"torch {torch.__version__}, device {args.device}, {args.threads} thread(s), "
           f"LD_PRELOAD={os.environ.get('LD_PRELOAD', '') or '-'}")
 
     rng = np.random.default_rng(0)
@@ -179,14 +181,14 @@ def main():
     y_train = np.arange(10) % 5
     X_test = rng.normal(scale=0.3, size=(args.n_test,) + shape).astype(np.float32)
     if not args.skip_convlstm:
-        net = ConvLSTMClassifier(max_epochs=1, random_state=0).fit(X_train, y_train)
+        net = ConvLSTMClassifier(max_epochs=1, random_state=0, device=args.device).fit(X_train, y_train)
         t_b, rows = report("ConvLSTM", net, X_test, args.n_samples, args.repeat, net.batch_size)
         print(f"ConvLSTM target: batched >= 3x faster than the loop of module calls -> "
               f"{rows[1][1] / t_b:.2f}x")
 
     for n in (int(s) for s in args.mlp_n.split(",")):
         F_train = rng.normal(size=(45, args.mlp_dim)).astype(np.float32)
-        mlp = DINOv2NNClassifier(max_epochs=1, random_state=0).fit(F_train, np.arange(45) % 9)
+        mlp = DINOv2NNClassifier(max_epochs=1, random_state=0, device=args.device).fit(F_train, np.arange(45) % 9)
         F = rng.normal(size=(n, args.mlp_dim)).astype(np.float32)
         t_b, rows = report(f"MLP head (DINOv2NN/OFNN) on cached features, n={n}", mlp, F,
                            args.n_samples, args.repeat, mlp.batch_size)

@@ -267,3 +267,21 @@ def test_half_precision_and_auto_device(X, backbone):
     assert out.dtype == np.float32
     np.testing.assert_allclose(out, ref, atol=0.1 * np.abs(ref).max())
     assert next(backbone.parameters()).dtype == torch.float32  # the given module is untouched
+
+
+def test_fitted_on_gpu_loads_on_cpu_only_machine(X, backbone, monkeypatch):
+    # stands for a pickle made on a GPU machine: device_ says cuda; loading where torch
+    # has no CUDA must warn and run on the CPU, not fail to deserialise the backbone
+    import pickle
+
+    dino = DINOv2Features(model=backbone).fit(X)
+    expected = dino.transform(X)
+    dino.device_ = torch.device("cuda")
+    fitted_model = dino.model_
+    blob = pickle.dumps(dino)
+    assert dino.model_ is fitted_model  # pickling left the fitted estimator alone
+    monkeypatch.setattr(torch.cuda, "is_available", lambda: False)
+    with pytest.warns(UserWarning, match="CUDA is not available"):
+        restored = pickle.loads(blob)
+    assert restored.device_.type == "cpu"
+    np.testing.assert_allclose(restored.transform(X), expected, rtol=1e-5, atol=1e-6)

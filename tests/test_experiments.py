@@ -298,3 +298,19 @@ def test_custom_estimator_and_dinov2nn_preset():
     assert res.config["model"] == "dinov2nn" and res.config["n_between"] == 1
     assert res.config["convergence_threshold"] is None
     assert all(np.isfinite(res.records[0]["variance"]))
+
+
+def test_device_key_reaches_the_named_models_and_keeps_old_hashes():
+    from sklearn_hardness.experiments import config_hash, get_config
+    from sklearn_hardness.experiments._data import make_estimator
+
+    cfg = get_config("silicone5")
+    without = {k: v for k, v in cfg.items() if k != "device"}
+    assert config_hash(cfg) == config_hash(without)  # results from before the key stay resumable
+    assert config_hash(cfg) != config_hash(dict(cfg, device="cuda"))
+    assert make_estimator("convlstm", dict(cfg, device="cuda"), 0, 5).get_params()["device"] == "cuda"
+    assert make_estimator("ofnn", cfg, 0, 5).get_params()["device"] == "cpu"
+    from sklearn_hardness.experiments._config import check_config
+
+    with pytest.raises(ValueError, match="device"):
+        check_config(dict(cfg, device=0))

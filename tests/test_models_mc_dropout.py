@@ -168,6 +168,32 @@ def test_clone_and_pickle_round_trip(case):
     np.testing.assert_array_equal(restored.classes_, net.classes_)
 
 
+def test_pickle_holds_no_torch_generator_and_training_continues_alike(case):
+    # a torch.Generator of a CUDA device cannot be unpickled where torch has no CUDA;
+    # the seeded generators travel as (device type, seed, state) and are rebuilt on load
+    cls, kind, kw, X, y, net = case
+    state = net.__getstate__()
+    for name in ("shuffle_generator_", "dropout_generator_"):
+        assert not isinstance(state[name], torch.Generator)
+    restored = pickle.loads(pickle.dumps(net))
+    assert isinstance(restored.dropout_generator_, torch.Generator)
+    twin = pickle.loads(pickle.dumps(net))
+    # generator states restored exactly: both continue training with the same masks and batches
+    restored.partial_fit(X, y, epochs=1)
+    twin.partial_fit(X, y, epochs=1)
+    assert restored.history[-1, "train_loss"] == twin.history[-1, "train_loss"]
+    np.testing.assert_array_equal(restored.predict_proba(X), twin.predict_proba(X))
+
+
+def test_generator_saved_on_another_device_type_is_reseeded():
+    from sklearn_hardness.models._mc_dropout import _SavedGenerator
+
+    saved = _SavedGenerator("cuda", 7, torch.Generator().manual_seed(3).get_state())
+    gen = pickle.loads(pickle.dumps(saved)).restore(torch.device("cpu"))
+    assert gen.device.type == "cpu" and gen.initial_seed() == 7
+    assert torch.equal(gen.get_state(), torch.Generator().manual_seed(7).get_state())
+
+
 def test_save_and_load_params_into_fresh_net(case, tmp_path):
     cls, kind, kw, X, y, net = case
     f = tmp_path / "params.pt"

@@ -61,6 +61,9 @@ _COMMON = {
     "dinov2_model": "facebook/dinov2-small",
     "image_size": (240, 320),  # simulator frames (GelSight Mini)
     "data_seed": 0,  # simulator seed
+    # torch device of the named models ("cpu", "cuda", "cuda:1", "auto"); frames are
+    # prepared on the CPU either way
+    "device": "cpu",
 }
 
 #: Defaults per preset (Sec. III-C of the paper).
@@ -157,6 +160,7 @@ _CONFIG_CONSTRAINTS = {
     "max_reservoir": [*_ints_from(1), None],
     "dropout": [Interval(numbers.Real, 0.0, 1.0, closed="left")],
     "convergence_threshold": [StrOptions({"auto"}), Interval(numbers.Real, None, None, closed="neither"), None],
+    "device": [str],
 }
 
 
@@ -195,7 +199,7 @@ def _jsonable(value):
 
 #: Keys added after results files existed, with the value that means "as before": hashed
 #: only when set to something else, so earlier results files stay resumable.
-_LATER_KEYS = {"n_ensemble": 0}
+_LATER_KEYS = {"n_ensemble": 0, "device": "cpu"}
 
 
 def config_hash(config):

@@ -307,7 +307,8 @@ def make_estimator(model, cfg, seed, n_classes, dropout=None):
 
         cls = {"convlstm": ConvLSTMClassifier, "ofnn": OFNNClassifier, "dinov2nn": DINOv2NNClassifier}[model]
         kwargs = dict(dropout=float(dropout), lr=cfg["lr"], random_state=int(seed),
-                      classes=np.arange(n_classes), max_epochs=int(cfg["initial_epochs"]))
+                      classes=np.arange(n_classes), max_epochs=int(cfg["initial_epochs"]),
+                      device=cfg.get("device", "cpu"))
         if cfg["batch_size"] is not None:
             kwargs["batch_size"] = int(cfg["batch_size"])
         if cfg.get("n_ensemble", 0):

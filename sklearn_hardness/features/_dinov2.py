@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import importlib
 import os
+import warnings
 from numbers import Integral
 
 import numpy as np
@@ -275,6 +276,28 @@ class DINOv2Features(TransformerMixin, BaseEstimator):
             ],
             dtype=object,
         )
+
+    def __getstate__(self):
+        # tensors on a GPU cannot be unpickled where torch has no CUDA: save the frozen
+        # backbone's weights on the CPU; __setstate__ moves them back to device_
+        state = dict(super().__getstate__())  # a copy: object.__getstate__ may return __dict__ itself
+        model = state.get("model_")
+        if isinstance(model, torch.nn.Module) and self.device_.type != "cpu":
+            state["model_"] = copy.deepcopy(model).cpu()
+        return state
+
+    def __setstate__(self, state):
+        super().__setstate__(state)
+        device = self.__dict__.get("device_")
+        if isinstance(self.__dict__.get("model_"), torch.nn.Module) and device is not None and device.type != "cpu":
+            if device.type == "cuda" and not torch.cuda.is_available():
+                warnings.warn(
+                    f"DINOv2Features was fitted on {device} but CUDA is not available here; "
+                    "the backbone runs on the CPU (set_params(device='cpu') and refit to silence this).",
+                    UserWarning,
+                )
+                self.device_ = torch.device("cpu")
+            self.model_.to(self.device_)
 
     def __sklearn_tags__(self):
         return frames_tags(super().__sklearn_tags__())

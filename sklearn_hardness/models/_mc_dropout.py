@@ -64,6 +64,23 @@ class _TrainingDataSetter(Callback):
         net._prepare_training(X, y)
 
 
+class _SavedGenerator(tuple):
+    """A pickled torch.Generator: device type, initial seed, state (a CPU byte tensor)."""
+
+    def __new__(cls, device_type, seed, gen_state):
+        return super().__new__(cls, (device_type, seed, gen_state))
+
+    def __getnewargs__(self):
+        return tuple(self)
+
+    def restore(self, device):
+        device_type, seed, gen_state = self
+        gen = torch.Generator(device=device).manual_seed(seed)
+        if device.type == device_type:
+            gen.set_state(gen_state)  # same kind of device: continue exactly where it stopped
+        return gen
+
+
 class MCDropoutClassifierBase(NeuralNetClassifier):
     """Base class of the MC-dropout classifiers (not for direct use).
 
@@ -152,12 +169,32 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             params["device"] = self.__dict__["device"]
         return params
 
+    # The seeded generators are saved as (device type, seed, state) rather than as
+    # torch.Generator objects: a CUDA generator cannot be unpickled where torch has no
+    # CUDA, so a net trained on a GPU could not be loaded on a CPU-only machine.
+    _generator_attrs = ("shuffle_generator_", "dropout_generator_")
+
+    def __getstate__(self):
+        state = super().__getstate__()
+        for name in self._generator_attrs:
+            gen = state.get(name)
+            if isinstance(gen, torch.Generator):
+                state[name] = _SavedGenerator(gen.device.type, int(gen.initial_seed()), gen.get_state())
+        return state
+
     def __setstate__(self, state):
         raw = state.get("device")
         state["device"] = resolve_device(raw)
         super().__setstate__(state)
         if raw == "auto":
             self.__dict__["device"] = raw
+        for name in self._generator_attrs:
+            saved = self.__dict__.get(name)
+            if isinstance(saved, _SavedGenerator):
+                # the shuffling generator is always a CPU one; the dropout masks' lives on the
+                # net's device, which skorch has just mapped to the CPU if CUDA is missing here
+                device = torch.device("cpu") if name == "shuffle_generator_" else torch.device(self.device)
+                self.__dict__[name] = saved.restore(device)
 
     def set_params(self, **kwargs):
         # scikit-learn convention: set_params stores and never raises; a bad value is
