@@ -12,6 +12,7 @@ from sklearn_hardness.active import (
     margin_sampling,
     mc_variance_sampling,
     random_sampling,
+    thompson_sampling,
     variance_decomposition,
     variance_sampling,
 )
@@ -19,7 +20,7 @@ from sklearn_hardness.active import (
 from ._active_net import make_blobs, make_net
 
 STRATEGIES = [entropy_sampling, variance_sampling, bald_sampling, margin_sampling,
-              mc_variance_sampling, random_sampling]
+              mc_variance_sampling, thompson_sampling, random_sampling]
 UNCERTAIN = {"entropy": entropy_sampling, "variance": variance_sampling, "bald": bald_sampling}
 
 
@@ -222,3 +223,28 @@ def test_bad_proba_samples(strategy, bad, err, match):
 def test_bad_random_state(strategy, proba):
     with pytest.raises(InvalidParameterError, match="'random_state' parameter"):
         strategy(proba, random_state="seed")
+
+
+def test_thompson_draws_the_first_class_with_its_mean_probability(proba):
+    mu = proba.astype(np.float64).mean(axis=(0, 1))
+    firsts = np.array([thompson_sampling(proba, random_state=s)[0][0] for s in range(3000)])
+    freq = np.bincount(firsts, minlength=3) / len(firsts)
+    np.testing.assert_allclose(freq, mu, atol=0.03)  # 3000 draws: binomial sd <= 0.009
+    # a class the model rules out is never drawn first, and all classes come back with n_instances=3
+    p = np.tile([0.6, 0.4, 0.0], (5, 2, 1))
+    for s in range(50):
+        idx, scores = thompson_sampling(p, n_instances=3, random_state=s)
+        assert idx[2] == 2 and scores[2] == 0.0
+    # same seed, same draw
+    assert thompson_sampling(proba, 2, random_state=7)[0].tolist() == thompson_sampling(proba, 2, random_state=7)[0].tolist()
+
+
+def test_thompson_presses_the_believed_class_and_spreads_with_doubt():
+    # the effect that sets it apart from the uncertainty scores: they press the confused
+    # class, Thompson presses the believed one most often and the competitor in proportion
+    sure = np.tile([0.05, 0.9, 0.05], (10, 5, 1))
+    unsure = np.tile([0.45, 0.1, 0.45], (10, 5, 1))
+    first = lambda p: np.bincount([thompson_sampling(p, random_state=s)[0][0] for s in range(500)], minlength=3)
+    assert first(sure)[1] > 400
+    c = first(unsure)
+    assert c[0] > 180 and c[2] > 180 and c[1] < 90

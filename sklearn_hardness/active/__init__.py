@@ -10,7 +10,7 @@ object, and press the most uncertain one again (Algorithm 1).
   MC-dropout part and its between-press part.
 - :func:`entropy_sampling`, :func:`variance_sampling`, :func:`bald_sampling`,
   :func:`margin_sampling`, :func:`mc_variance_sampling`,
-  :func:`random_sampling`: strategies, functions of the MC-dropout
+  :func:`thompson_sampling`, :func:`random_sampling`: strategies, functions of the MC-dropout
   probabilities on the test presses, returning ``(class_indices, scores)``;
   :func:`as_modal_strategy` adapts one to modAL.
 - :class:`ActiveLearner`: fit / query / teach with a capped training
@@ -28,6 +28,7 @@ from ._strategies import (
     margin_sampling,
     mc_variance_sampling,
     random_sampling,
+    thompson_sampling,
     variance_sampling,
 )
 from ._uncertainty import UNCERTAINTY_KINDS, class_uncertainty, variance_decomposition
@@ -43,6 +44,7 @@ __all__ = [
     "bald_sampling",
     "margin_sampling",
     "mc_variance_sampling",
+    "thompson_sampling",
     "random_sampling",
     "get_strategy",
     "as_modal_strategy",
