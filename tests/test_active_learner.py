@@ -180,7 +180,7 @@ def test_query_runs_mc_passes_once_and_strategy_reuses_them(data):
 
 def test_string_and_custom_strategies(data):
     X0, y0, X_test, _, _ = data
-    for name in ["entropy", "variance", "bald", "margin", "mc_variance", "random"]:
+    for name in ["entropy", "variance", "bald", "margin", "mc_variance", "thompson", "random"]:
         learner = ActiveLearner(make_net(), name, initial_epochs=1, n_mc_samples=3,
                                 random_state=0).fit(X0, y0)
         idx, scores = learner.query(X_test)
@@ -536,3 +536,20 @@ def test_query_scores_the_presses_it_was_given(strategy, in_pipeline):
     X0_features = double.transform(X0) if in_pipeline else X0
     p_train = model.predict_proba_samples(X0_features, n_samples=7)
     assert not np.allclose(get_strategy(strategy)(p_train)[1], scores)
+
+
+def test_thompson_query_draws_from_the_test_presses_belief():
+    """The learner's thompson query presses class i with the mean MC probability of i on
+    X_test (not on the training presses, whose belief is different)."""
+    X0 = np.repeat(np.eye(3) * 6.0, 2, axis=0)
+    y0 = np.repeat([0, 1, 2], 2)
+    X_test = np.array([[2.0, 0.0, 1.5], [0.5, 0.0, 2.5], [3.0, 0.2, 0.0]])
+    model = LogitRowsMC()
+    learner = ActiveLearner(model, "thompson", n_mc_samples=7, random_state=0).fit(X0, y0)
+    firsts = np.array([learner.query(X_test)[0][0] for _ in range(1500)])
+    freq = np.bincount(firsts, minlength=3) / len(firsts)
+    model.fit(X0, y0)
+    mu_test = model.predict_proba_samples(X_test, n_samples=7).mean(axis=(0, 1))
+    mu_train = model.predict_proba_samples(X0, n_samples=7).mean(axis=(0, 1))
+    np.testing.assert_allclose(freq, mu_test, atol=0.04)
+    assert np.abs(mu_test - mu_train).max() > 0.15  # the wrong presses would show

@@ -372,3 +372,34 @@ def test_parameters_are_validated_by_sklearn():
         ContactFrameSelector(min_contrast=-1).select([synthetic_press()])
     # sklearn's own _validate_params is no longer shadowed
     assert ContactFrameSelector._validate_params is BaseEstimator._validate_params
+
+
+def test_crop_contact_centres_a_fixed_window_on_the_change():
+    rng = np.random.default_rng(0)
+    video = rng.integers(100, 103, size=(20, 40, 60, 3)).astype(np.uint8)
+    for t in range(8, 20):  # a blob in the top-left part of the pad, growing from frame 8
+        r = min(t - 7, 5)
+        video[t, 10 - r:10 + r, 15 - r:15 + r] = 200
+    full = ContactFrameSelector(color="gray").fit_transform([video])
+    crop = ContactFrameSelector(color="gray", crop_contact=0.5).fit_transform([video])
+    assert crop.shape == (1, 4, 20, 30, 1)  # half the height and width, no output_size
+    # the window is the 20x30 block centred on the blob, clipped into the frame: rows 0..20, cols 0..30
+    np.testing.assert_allclose(crop[0], full[0, :, 0:20, 0:30])
+    # the fixed size keeps the contact's size: the blob covers the same number of pixels
+    assert (np.abs(crop[0, -1]) > 0.2).sum() == (np.abs(full[0, -1]) > 0.2).sum()
+    # with output_size the crop is resized: the blob fills a larger part of the output
+    small_full = ContactFrameSelector(color="gray", output_size=(10, 15)).fit_transform([video])
+    small_crop = ContactFrameSelector(color="gray", output_size=(10, 15), crop_contact=0.5).fit_transform([video])
+    assert (np.abs(small_crop[0, -1]) > 0.1).sum() > 2 * (np.abs(small_full[0, -1]) > 0.1).sum()
+
+
+def test_crop_contact_without_change_keeps_the_centre_and_bad_values_raise():
+    from sklearn.utils._param_validation import InvalidParameterError
+
+    video = np.full((12, 40, 60, 3), 120, dtype=np.uint8)
+    with pytest.warns(ContactNotFoundWarning):
+        out = ContactFrameSelector(subtract_first=False, crop_contact=0.5).fit_transform([video])
+    assert out.shape[2:4] == (20, 30)
+    for bad in (0, 1, 1.5, "contact"):
+        with pytest.raises(InvalidParameterError, match="crop_contact"):
+            ContactFrameSelector(crop_contact=bad).fit([video])

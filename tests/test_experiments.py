@@ -314,3 +314,23 @@ def test_device_key_reaches_the_named_models_and_keeps_old_hashes():
 
     with pytest.raises(ValueError, match="device"):
         check_config(dict(cfg, device=0))
+
+
+def test_early_stopping_cuts_epochs_and_is_recorded():
+    from sklearn_hardness.experiments import config_hash, get_config, run_active_sampling
+
+    from ._exp_data import TINY, tiny_presses
+
+    cfg = get_config("silicone5")
+    assert config_hash(cfg) == config_hash({k: v for k, v in cfg.items() if k != "early_stopping"})
+    kw = dict(TINY, initial_epochs=60, epochs_per_query=40)
+    runs = {}
+    for es in (None, 1):
+        res = run_active_sampling(tiny_presses(), model="ofnn", strategies=("random",), test_classes=[0],
+                                  n_runs=1, n_jobs=1, verbose=0, early_stopping=es, **kw)
+        runs[es] = res.records[0]["epochs"]
+    assert runs[None] == [60] + [40] * TINY["n_iterations"]  # every configured epoch, recorded
+    assert len(runs[1]) == len(runs[None])
+    assert sum(runs[1]) < sum(runs[None])  # patience 1 stops at the first epoch without progress
+    with pytest.raises(ValueError, match="early_stopping"):
+        run_active_sampling(tiny_presses(), model="ofnn", verbose=0, early_stopping=0, **TINY)

@@ -131,7 +131,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         reservoir sample is kept, so frozen features (optical flow, DINOv2)
         are computed once per press.
     query_strategy : {"variance", "entropy", "bald", "margin", "mc_variance", \
-            "random"} or callable, default=variance_sampling
+            "thompson", "random"} or callable, default=variance_sampling
         The strategy, by name or as a callable
         ``strategy(proba_samples, n_instances=1, *, random_state=None)``
         that receives the MC-dropout probabilities on the test presses,
@@ -204,7 +204,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         table. Every entry has ``"event"`` (``"fit"``, ``"query"`` or
         ``"teach"``) and ``"iteration"`` (number of :meth:`teach` calls so
         far). ``"fit"`` and ``"teach"`` entries have ``n_new``,
-        ``new_classes``, ``reservoir_size``, ``train_size``, ``epochs`` and
+        ``new_classes``, ``reservoir_size``, ``train_size``, ``epochs`` (run,
+        fewer than asked when a callback such as skorch's ``EarlyStopping``
+        stopped the training; None for an estimator refit from scratch) and
         ``train_loss`` (the last epoch's training loss for a skorch net,
         else None). ``"query"`` entries have ``queried`` (class indices),
         ``scores`` (the strategy's per-class scores or None), ``n_test``,
@@ -391,7 +393,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             yield
 
     def _train(self, Xt, y, epochs):
+        """Train; return the last training loss and the number of epochs run."""
         final = self._final()
+        before = self._n_history_rows()
         with self._seeded_torch():
             if _trains_in_epochs(final):
                 # the clone is uninitialised, so the first partial_fit initialises
@@ -399,7 +403,16 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
                 final.partial_fit(Xt, y, classes=self.classes_, epochs=epochs)
             else:
                 final.fit(Xt, y)
-        return self._last_train_loss()
+        after = self._n_history_rows()
+        if after is not None and before is not None and after >= before:
+            run = after - before  # fewer than asked when a callback (EarlyStopping) stopped it
+        else:
+            run = epochs if _trains_in_epochs(final) else None
+        return self._last_train_loss(), run
+
+    def _n_history_rows(self):
+        hist = getattr(self._final(), "history_", None)
+        return None if hist is None else len(hist)
 
     def _last_train_loss(self):
         hist = getattr(self._final(), "history_", None)
@@ -507,7 +520,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
                 "sklearn_hardness.models.OFNNClassifier) or a Pipeline ending in one."
             )
         Xt = self.estimator_[:-1].fit_transform(X, y) if self._has_feature_steps() else X
-        loss = self._train(Xt, y, self.initial_epochs)
+        loss, epochs_run = self._train(Xt, y, self.initial_epochs)
         final_classes = getattr(self._final(), "classes_", None)
         if final_classes is not None and not (
             len(final_classes) == len(self.classes_)
@@ -533,7 +546,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
                 "new_classes": np.unique(y),
                 "reservoir_size": n,
                 "train_size": n,
-                "epochs": self.initial_epochs,
+                "epochs": epochs_run,
                 "train_loss": loss,
             }
         ]
@@ -713,7 +726,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             y_train = self.reservoir_y_[subset]
         else:
             X_train, y_train = self.reservoir_X_, self.reservoir_y_
-        loss = self._train(X_train, y_train, self.epochs_per_query)
+        loss, epochs_run = self._train(X_train, y_train, self.epochs_per_query)
         self.n_iterations_ += 1
         self.n_presses_ += n_new
         self.history_.append(
@@ -724,7 +737,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
                 "new_classes": np.unique(y_new),
                 "reservoir_size": size,
                 "train_size": int(y_train.shape[0]),
-                "epochs": self.epochs_per_query,
+                "epochs": epochs_run,
                 "train_loss": loss,
             }
         )

@@ -124,6 +124,7 @@ def _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, stat
         "accuracy": [], "mae": [], "entropy": [], "variance": [], "bald": [],
         "entropy_per_class": [], "variance_per_class": [], "bald_per_class": [],
         "predictions": [], "queried": [], "train_loss": [loss], "reservoir_size": [len(init_idx)],
+        "epochs": [learner.history_[0]["epochs"]],
         "drawn_indices": [],
     }
     if X_hold is not None:
@@ -154,6 +155,7 @@ def _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, stat
         rec["drawn_indices"].append(new_idx)
         rec["train_loss"].append(learner.history_[-1]["train_loss"])
         rec["reservoir_size"].append(learner.history_[-1]["reservoir_size"])
+        rec["epochs"].append(learner.history_[-1]["epochs"])
     record_state(_uncertainty(learner, X_test, state["mc_seed"]))
     return rec
 
@@ -309,7 +311,9 @@ def run_active_sampling(
         ``*_per_class`` values, ``predictions``, and with ``n_holdout``
         presses per class held out of the pool, ``holdout_accuracy`` and
         ``holdout_mae`` on them (every reference object); per query ``queried`` (class
-        index), ``train_loss`` and ``reservoir_size``; and provenance
+        index), ``train_loss`` and ``reservoir_size``; ``epochs`` trained (the initial
+        training, then each query; below the configured counts when ``early_stopping``
+        stopped a training call); and provenance
         (``wall_time``, ``finished_at``, ``pid``, ``host``). See
         :func:`comparison_table` and :func:`plot_active_sampling`.
 

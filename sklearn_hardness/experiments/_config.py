@@ -64,6 +64,13 @@ _COMMON = {
     # torch device of the named models ("cpu", "cuda", "cuda:1", "auto"); frames are
     # prepared on the CPU either way
     "device": "cpu",
+    # None: every epoch of initial_epochs / epochs_per_query is trained (the paper). k: a
+    # training call stops once the training loss has not improved (by 0.1%) for k epochs
+    # (skorch EarlyStopping on train_loss); those counts become upper bounds
+    "early_stopping": None,
+    # None: whole frames. f in (0, 1): each press cut to a window of f x the frame's height
+    # and width centred on its contact before resizing to frame_size (ContactFrameSelector)
+    "crop_contact": None,
 }
 
 #: Defaults per preset (Sec. III-C of the paper).
@@ -161,6 +168,8 @@ _CONFIG_CONSTRAINTS = {
     "dropout": [Interval(numbers.Real, 0.0, 1.0, closed="left")],
     "convergence_threshold": [StrOptions({"auto"}), Interval(numbers.Real, None, None, closed="neither"), None],
     "device": [str],
+    "early_stopping": [*_ints_from(1), None],
+    "crop_contact": [Interval(numbers.Real, 0.0, 1.0, closed="neither"), None],
 }
 
 
@@ -199,7 +208,7 @@ def _jsonable(value):
 
 #: Keys added after results files existed, with the value that means "as before": hashed
 #: only when set to something else, so earlier results files stay resumable.
-_LATER_KEYS = {"n_ensemble": 0, "device": "cpu"}
+_LATER_KEYS = {"n_ensemble": 0, "device": "cpu", "early_stopping": None, "crop_contact": None}
 
 
 def config_hash(config):

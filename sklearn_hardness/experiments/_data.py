@@ -77,12 +77,15 @@ def _frame_params(cfg, model):
     name = model if isinstance(model, str) else "convlstm"
     size = cfg["frame_size"] or MODEL_INPUTS[name]["frame_size"]
     color = cfg["color"] or MODEL_INPUTS[name]["color"]
-    return {
+    params = {
         "n_between": int(cfg["n_between"]),
         "output_size": tuple(int(s) for s in size),
         "color": color,
         "subtract_first": MODEL_INPUTS[name]["subtract_first"],
     }
+    if cfg.get("crop_contact") is not None:  # only when set: earlier caches stay valid
+        params["crop_contact"] = float(cfg["crop_contact"])
+    return params
 
 
 def _feature_params(cfg, model):
@@ -311,6 +314,11 @@ def make_estimator(model, cfg, seed, n_classes, dropout=None):
                       device=cfg.get("device", "cpu"))
         if cfg["batch_size"] is not None:
             kwargs["batch_size"] = int(cfg["batch_size"])
+        if cfg.get("early_stopping") is not None:
+            from skorch.callbacks import EarlyStopping
+
+            kwargs["callbacks"] = [("early_stopping", EarlyStopping(
+                monitor="train_loss", patience=int(cfg["early_stopping"]), threshold=1e-3))]
         if cfg.get("n_ensemble", 0):
             from ..models import EnsembleClassifier
 
