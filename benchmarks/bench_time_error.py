@@ -25,9 +25,16 @@ setting and change how the run is executed::
     python benchmarks/bench_time_error.py --seeds 2 --configs paper "frames 12x16"
     python benchmarks/bench_time_error.py --out docs/_output/time_error
 
-Not swept here: cropping to the contact region (``ContactFrameSelector(roi=...)``
-is a fixed region, not found per press) and early stopping of the epochs per
-query (not implemented); see the run-time page of the user guide.
+"Skip what a press does not need": ``early stopping 5`` stops each training call
+after the initial one once the training loss has not improved for 5 epochs
+(``early_stopping=5``; the initial training runs in full, as the convergence
+rule is about it);
+``crop 0.5`` cuts each press to a window of half its height and width centred on
+its contact before resizing (``crop_contact=0.5``)::
+
+    python benchmarks/bench_time_error.py --configs paper "frames 12x16" "early stopping 5" \
+        "crop 0.5" "crop 0.5, frames 12x16" "frames 12x16, early stopping 5" \
+        --out docs/_output/time_error_skip
 """
 
 import argparse
@@ -50,6 +57,10 @@ CONFIGS = {
     "20 MC passes": ({"n_mc_samples": 20}, 1, {}),
     "e=25": ({"epochs_per_query": 25}, 1, {}),
     "e0=50, e=25": ({"initial_epochs": 50, "epochs_per_query": 25}, 1, {}),
+    "early stopping 5": ({"early_stopping": 5}, 1, {}),
+    "crop 0.5": ({"crop_contact": 0.5}, 1, {}),
+    "crop 0.5, frames 12x16": ({"crop_contact": 0.5, "frame_size": (12, 16)}, 1, {}),
+    "frames 12x16, early stopping 5": ({"frame_size": (12, 16), "early_stopping": 5}, 1, {}),
     "2 threads per run": ({}, 2, {}),
     "glibc malloc": ({}, 1, {"LD_PRELOAD": None}),
 }

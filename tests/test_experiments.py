@@ -331,6 +331,7 @@ def test_early_stopping_cuts_epochs_and_is_recorded():
         runs[es] = res.records[0]["epochs"]
     assert runs[None] == [60] + [40] * TINY["n_iterations"]  # every configured epoch, recorded
     assert len(runs[1]) == len(runs[None])
+    assert runs[1][0] == 60  # the initial training runs in full (the convergence rule is about it)
     assert sum(runs[1]) < sum(runs[None])  # patience 1 stops at the first epoch without progress
     with pytest.raises(ValueError, match="early_stopping"):
         run_active_sampling(tiny_presses(), model="ofnn", verbose=0, early_stopping=0, **TINY)

@@ -64,9 +64,10 @@ _COMMON = {
     # torch device of the named models ("cpu", "cuda", "cuda:1", "auto"); frames are
     # prepared on the CPU either way
     "device": "cpu",
-    # None: every epoch of initial_epochs / epochs_per_query is trained (the paper). k: a
-    # training call stops once the training loss has not improved (by 0.1%) for k epochs
-    # (skorch EarlyStopping on train_loss); those counts become upper bounds
+    # None: every epoch of initial_epochs / epochs_per_query is trained (the paper). k: each
+    # training call after the initial one stops once the training loss has not improved (by
+    # 0.1%) for k epochs (skorch EarlyStopping on train_loss); epochs_per_query becomes an
+    # upper bound. The initial training runs in full (the convergence rule is about it)
     "early_stopping": None,
     # None: whole frames. f in (0, 1): each press cut to a window of f x the frame's height
     # and width centred on its contact before resizing to frame_size (ContactFrameSelector)
