@@ -553,3 +553,18 @@ def test_thompson_query_draws_from_the_test_presses_belief():
     mu_train = model.predict_proba_samples(X0, n_samples=7).mean(axis=(0, 1))
     np.testing.assert_allclose(freq, mu_test, atol=0.04)
     assert np.abs(mu_test - mu_train).max() > 0.15  # the wrong presses would show
+
+
+def test_history_epochs_are_the_epochs_run_also_in_the_initial_training():
+    from skorch.callbacks import EarlyStopping
+
+    from sklearn_hardness.models import OFNNClassifier
+
+    X, y = make_blobs(n_per_class=10, seed=0)
+    net = OFNNClassifier(random_state=0, callbacks=[EarlyStopping(monitor="train_loss", patience=1)])
+    learner = ActiveLearner(net, "random", initial_epochs=300, epochs_per_query=300, n_mc_samples=3,
+                            random_state=0).fit(X, y)
+    first = learner.history_[0]["epochs"]
+    assert first == len(learner._final().history) < 300  # stopped early, and said so
+    learner.teach(X[:3], y[:3])
+    assert learner.history_[-1]["epochs"] == len(learner._final().history) - first < 300

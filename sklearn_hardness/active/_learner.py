@@ -395,7 +395,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
     def _train(self, Xt, y, epochs):
         """Train; return the last training loss and the number of epochs run."""
         final = self._final()
-        before = self._n_history_rows()
+        before = self._n_history_rows() or 0  # an uninitialised net has no history yet: 0 rows
         with self._seeded_torch():
             if _trains_in_epochs(final):
                 # the clone is uninitialised, so the first partial_fit initialises
@@ -404,7 +404,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             else:
                 final.fit(Xt, y)
         after = self._n_history_rows()
-        if after is not None and before is not None and after >= before:
+        if after is not None and after >= before:
             run = after - before  # fewer than asked when a callback (EarlyStopping) stopped it
         else:
             run = epochs if _trains_in_epochs(final) else None
