@@ -322,7 +322,10 @@ def test_early_stopping_cuts_epochs_and_is_recorded():
     from ._exp_data import TINY, tiny_presses
 
     cfg = get_config("silicone5")
-    assert config_hash(cfg) == config_hash({k: v for k, v in cfg.items() if k != "early_stopping"})
+    assert cfg["early_stopping"] == 5  # the default (front of time against error)
+    paper = dict(cfg, early_stopping=None)  # every epoch: hashed as before the key existed
+    assert config_hash(paper) == config_hash({k: v for k, v in cfg.items() if k != "early_stopping"})
+    assert config_hash(cfg) != config_hash(paper)
     kw = dict(TINY, initial_epochs=60, epochs_per_query=40)
     runs = {}
     for es in (None, 1):

@@ -336,7 +336,7 @@ def run_active_sampling(
     check_config(cfg)
     strategies, names = _check_strategies(strategies)
     # the ConvLSTM's input scale is fitted per run on its training presses (_input_scale)
-    inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose, scale=False)
+    inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose, scale=False, n_jobs=n_jobs)
     n_classes = inputs.n_classes
     test_classes = list(range(n_classes)) if test_classes is None else _check_int_list(
         test_classes, "test_classes", set(range(n_classes)))

@@ -160,7 +160,7 @@ def run_model_baselines(
     records = []
     for name, model in pairs:
         mcfg = check_config(dict(cfg, model=describe_model(model)))
-        inputs = prepare_inputs(dataset, mcfg, model, memory=memory, verbose=verbose)
+        inputs = prepare_inputs(dataset, mcfg, model, memory=memory, verbose=verbose, n_jobs=n_jobs)
         _check_counts(inputs.y, inputs.n_classes, n_train + n_test, inputs.target_names)
         chash = config_hash(dict(mcfg, n_runs=None, n_train=n_train, n_test=n_test, data=inputs.data_id))
         tasks = [{"seed": s, "key": {"experiment": "model_baselines", "model": name, "seed": s,
@@ -229,7 +229,7 @@ def run_dropout_sweep(
             raise ValueError(f"{type(model).__name__} has no dropout parameter to sweep.")
     cfg["model"] = describe_model(model)
     check_config(cfg)
-    inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose)
+    inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose, n_jobs=n_jobs)
     _check_counts(inputs.y, inputs.n_classes, n_train + n_test, inputs.target_names)
     chash = config_hash(dict(cfg, dropout=None, n_runs=None, n_train=n_train, n_test=n_test, data=inputs.data_id))
     tasks = [{"seed": s, "dropout": d,

@@ -24,14 +24,15 @@ __all__ = ["PRESET_CONFIGS", "QUICK_OVERRIDES", "MODEL_NAMES", "get_config", "co
 MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn")
 
 #: Input of each named model, after contact-frame selection. The paper does not
-#: give the ConvLSTM's input size; small grey frames keep a run on a 2-core CPU
-#: within minutes (see ``benchmarks/bench_active_sampling.py``). Optical flow
+#: give the ConvLSTM's input size. 12x16 grey frames are the default: on the front
+#: of time against error of ``benchmarks/bench_time_error.py`` (half the time of
+#: 18x24 per run, no higher error in its runs; docs: run time against error). Optical flow
 #: needs enough pixels for its 500 corners; DINOv2 resizes to 224 itself.
 #: Optical flow tracks the gel's markers, so it gets the raw frames: on simulated
 #: silicone5 (5 train presses per object, 5 seeds) OFNN reached 33.8% +- 2.9% on raw
 #: frames and 21.5% +- 1.1% (chance) on differences to the first frame.
 MODEL_INPUTS = {
-    "convlstm": {"frame_size": (18, 24), "color": "gray", "subtract_first": True},
+    "convlstm": {"frame_size": (12, 16), "color": "gray", "subtract_first": True},
     "ofnn": {"frame_size": (120, 160), "color": "gray", "subtract_first": False},
     "dinov2nn": {"frame_size": (112, 150), "color": "rgb", "subtract_first": True},
 }
@@ -51,7 +52,7 @@ _COMMON = {
     "dropout": 0.2,
     "lr": 1e-3,
     "batch_size": None,  # None: the model's default (8 ConvLSTM, 32 MLP heads)
-    "frame_size": None,  # None: MODEL_INPUTS[model]
+    "frame_size": None,  # None: MODEL_INPUTS[model] (check_config fills it in)
     "color": None,
     # ConvLSTM input: frame differences are small (std ~0.03 of full scale) and
     # the ConvLSTM barely trains on them; an active-sampling run divides them by
@@ -64,11 +65,12 @@ _COMMON = {
     # torch device of the named models ("cpu", "cuda", "cuda:1", "auto"); frames are
     # prepared on the CPU either way
     "device": "cpu",
-    # None: every epoch of initial_epochs / epochs_per_query is trained (the paper). k: each
-    # training call after the initial one stops once the training loss has not improved (by
-    # 0.1%) for k epochs (skorch EarlyStopping on train_loss); epochs_per_query becomes an
-    # upper bound. The initial training runs in full (the convergence rule is about it)
-    "early_stopping": None,
+    # k: each training call after the initial one stops once the training loss has not
+    # improved (by 0.1%) for k epochs (skorch EarlyStopping on train_loss); epochs_per_query
+    # becomes an upper bound. The initial training runs in full (the convergence rule is about
+    # it). None: every epoch of initial_epochs / epochs_per_query is trained (the paper's rule).
+    # 5 is on the front of time against error (benchmarks/bench_time_error.py)
+    "early_stopping": 5,
     # None: whole frames. f in (0, 1): each press cut to a window of f x the frame's height
     # and width centred on its contact before resizing to frame_size (ContactFrameSelector)
     "crop_contact": None,
@@ -187,6 +189,16 @@ def check_config(cfg):
             f"n_per_query={cfg['n_per_query']} new presses per iteration; the training "
             "subset could not even hold one batch."
         )
+    if cfg["frame_size"] is None and cfg.get("model") in MODEL_INPUTS:
+        # the named model's frame size, written out: the config hash and config.json then say
+        # which frames a run saw, also after the default changed (18x24 before 12x16)
+        cfg["frame_size"] = MODEL_INPUTS[cfg["model"]]["frame_size"]
+    size = cfg["frame_size"]
+    if size is not None:
+        if (isinstance(size, str) or not hasattr(size, "__len__") or len(size) != 2
+                or not all(isinstance(v, numbers.Integral) and v >= 1 for v in size)):
+            raise ValueError(f"frame_size must be None or (height, width) of positive ints, got {size!r}.")
+        cfg["frame_size"] = (int(size[0]), int(size[1]))
     if cfg["convergence_threshold"] == "auto":
         # the paper's rule is for the ConvLSTM ("loss > 1 after initial training")
         cfg["convergence_threshold"] = 1.0 if cfg["model"] == "convlstm" else None

@@ -97,12 +97,12 @@ def _feature_params(cfg, model):
     return None
 
 
-def _select_frames(videos, frame_params, verbose):
+def _select_frames(videos, frame_params, verbose, n_jobs=None):
     from tqdm.auto import tqdm
 
     from ..preprocessing import ContactFrameSelector
 
-    selector = ContactFrameSelector(on_no_contact="fallback", **frame_params)
+    selector = ContactFrameSelector(on_no_contact="fallback", n_jobs=n_jobs, **frame_params)
     n = len(videos)
     if n == 0:
         raise ValueError("the dataset has no videos.")
@@ -113,15 +113,13 @@ def _select_frames(videos, frame_params, verbose):
     with warnings.catch_warnings():
         # no-contact fallbacks are reported once, below, not per chunk
         warnings.filterwarnings("ignore", message=".*contact.*")
-        selector.fit(videos[np.arange(min(n, 1))] if hasattr(videos, "shape") else videos[:1])
         n_fallback = 0
         with tqdm(total=n, desc="contact frames", unit="video", disable=True if not verbose else None) as bar:
             for start in range(0, n, chunk):
                 idx = np.arange(start, min(n, start + chunk))
                 part = videos[idx] if hasattr(videos, "shape") else [videos[i] for i in idx]
-                sel = selector.select(part)
-                n_fallback += int(np.sum(~np.asarray(sel.contact_found)))
-                out.append(selector.transform(part))
+                out.append(selector.fit_transform(part))  # one pass: frames and selection_
+                n_fallback += int(np.sum(~np.asarray(selector.selection_.contact_found)))
                 bar.update(len(idx))
     if n_fallback:
         warnings.warn(
@@ -149,9 +147,9 @@ def _features(frames, feature_params):
     return DINOv2Features(model=feature_params["model"]).fit_transform(frames)
 
 
-def _compute(spec, dataset, cfg, frame_params, feature_params, verbose):
+def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=None):
     data = load_dataset(dataset, cfg)
-    frames = _select_frames(data["videos"], frame_params, verbose)
+    frames = _select_frames(data["videos"], frame_params, verbose, n_jobs)
     X = _features(frames, feature_params)
     y = np.asarray(data["target"])
     return X, y
@@ -176,7 +174,7 @@ def default_cache_dir():
         os.path.expanduser("~"), ".cache", "sklearn_hardness")
 
 
-def _cached_compute(folder, spec, dataset, cfg, frame_params, feature_params, verbose):
+def _cached_compute(folder, spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=None):
     """``_compute`` through an ``.npz`` file keyed by what determines the result.
 
     Written to a temporary file in the same folder and moved into place with
@@ -192,7 +190,7 @@ def _cached_compute(folder, spec, dataset, cfg, frame_params, feature_params, ve
                 return f["X"], f["y"]
         except (OSError, ValueError, KeyError):  # unreadable (e.g. disk full when written): recompute
             pass
-    X, y = _compute(spec, dataset, cfg, frame_params, feature_params, verbose)
+    X, y = _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs)
     os.makedirs(folder, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=".inputs-", suffix=".npz.tmp", dir=folder)
     try:
@@ -222,7 +220,7 @@ def _meta(data_or_none, dataset, cfg, y):
     return np.asarray(names), hardness, unit
 
 
-def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True):
+def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True, n_jobs=None):
     """Selected frames (ConvLSTM, custom estimators) or frozen features for all presses.
 
     Parameters
@@ -241,6 +239,9 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True):
         Divide ConvLSTM frames by their standard deviation over all presses
         (``cfg["input_scale"] == "std"``). The active-sampling runs pass
         False and fit the scale on each run's training presses instead.
+    n_jobs : int or None, default=None
+        Threads that find the contact frames (``ContactFrameSelector``
+        ``n_jobs``); not part of the cache key.
 
     Returns
     -------
@@ -256,22 +257,22 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True):
     data = None
     if spec is None:
         data = load_dataset(dataset, cfg)
-        X, y = _compute(None, data, cfg, frame_params, feature_params, verbose)
+        X, y = _compute(None, data, cfg, frame_params, feature_params, verbose, n_jobs)
     else:
         memo_key = joblib.hash((spec, frame_params, feature_params))
         if memo_key in _MEMO:
             X, y, data = _MEMO[memo_key]
         else:
             if isinstance(memory, joblib.Memory):
-                X, y = memory.cache(_compute, ignore=["dataset", "cfg", "verbose"])(
-                    spec, dataset, cfg, frame_params, feature_params, verbose
+                X, y = memory.cache(_compute, ignore=["dataset", "cfg", "verbose", "n_jobs"])(
+                    spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs
                 )
             elif memory is not False and (feature_params is None or isinstance(
                     feature_params.get("model", ""), str)):
                 folder = default_cache_dir() if memory is None else os.fspath(memory)
-                X, y = _cached_compute(folder, spec, dataset, cfg, frame_params, feature_params, verbose)
+                X, y = _cached_compute(folder, spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs)
             else:
-                X, y = _compute(spec, dataset, cfg, frame_params, feature_params, verbose)
+                X, y = _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs)
             data = load_dataset(dataset, cfg)  # lazy videos: metadata only
             data = {k: data.get(k) for k in ("target_names", "hardness", "hardness_unit")}
             _MEMO[memo_key] = (X, y, data)
