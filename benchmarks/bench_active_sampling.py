@@ -3,11 +3,13 @@
 One run (default)
     One ConvLSTM active-sampling run with the paper's robot-data
     hyperparameters on the simulated ``silicone5`` set (s0 = s = 5, N = 5,
-    e0 = 100, e = 50, M = 40, dropout 0.2, 50 MC passes, 18x24 grey frames):
+    e0 = 100, e = 50, M = 40, dropout 0.2, 50 MC passes) at the library's
+    defaults (12x16 grey frames, ``early_stopping=5``; ``--paper``: 18x24
+    frames and every epoch, the settings of the measurements below):
     wall time, CPU time and peak memory of the run, after the frames of all
     455 presses are prepared (timed separately)::
 
-        python benchmarks/bench_active_sampling.py
+        python benchmarks/bench_active_sampling.py [--paper]
 
 Paired seeds
     Variance, entropy, BALD and random on the same (test object, seed) pairs
@@ -62,6 +64,13 @@ def _peak_rss_mib():
     return r / 1024 if sys.platform != "darwin" else r / 2**20
 
 
+def _overrides(args):
+    out = {"frame_size": (18, 24), "early_stopping": None} if args.paper else {}
+    if args.frame_size is not None:
+        out["frame_size"] = tuple(args.frame_size)
+    return out
+
+
 def one_run(args):
     import torch
 
@@ -69,7 +78,7 @@ def one_run(args):
     from sklearn_hardness.experiments._data import prepare_inputs
 
     torch.set_num_threads(args.threads)
-    overrides = {} if args.frame_size is None else {"frame_size": tuple(args.frame_size)}
+    overrides = _overrides(args)
     cfg = get_config("silicone5", quick=args.quick, model=args.model, **overrides)
     t = time.perf_counter()
     prepare_inputs("silicone5", dict(cfg, convergence_threshold=None), args.model, verbose=0)
@@ -100,7 +109,7 @@ def paired(args):
 
     strategies = ("variance", "entropy", "bald", "random")
     n_seeds = math.ceil(args.paired_seeds / 5)
-    overrides = {} if args.frame_size is None else {"frame_size": tuple(args.frame_size)}
+    overrides = _overrides(args)
     t = time.perf_counter()
     res = run_active_sampling("silicone5", model=args.model, strategies=strategies, seeds=range(n_seeds),
                               quick=args.quick, n_jobs=args.n_jobs, results_path=args.results,
@@ -153,6 +162,8 @@ def main():
     ap.add_argument("--model", default="convlstm", choices=["convlstm", "ofnn"])
     ap.add_argument("--quick", action="store_true", help="the reproduce --quick settings")
     ap.add_argument("--frame-size", type=int, nargs=2, default=None)
+    ap.add_argument("--paper", action="store_true",
+                    help="18x24 frames and every epoch (early_stopping=None), the defaults before 12x16")
     ap.add_argument("--strategy", default="variance")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--threads", type=int, default=2, help="torch threads of the single run")
