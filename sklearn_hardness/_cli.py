@@ -295,8 +295,10 @@ def _run_reproduce(args):
     from .experiments import (
         comparison_table,
         format_paired_table,
+        format_presses_to_reach,
         format_table,
         paired_table,
+        presses_to_reach,
         run_active_sampling,
         save_figures,
     )
@@ -356,6 +358,10 @@ def _run_reproduce(args):
             "\nConverged runs; differences and p-values over the pairs where both runs converged. "
             "presses_at_stop / accuracy_at_stop: reference presses used and test accuracy when the "
             "vote of the test presses is settled (experiments.decision_stop: 80% agree, 2 iterations)."
+        ) + "\n\n" + format_presses_to_reach(presses_to_reach(result)) + (
+            "\nPresses to reach random's final accuracy: the first press count at which a strategy's mean "
+            "test accuracy over the pairs is at least random's mean final accuracy (experiments."
+            "presses_to_reach; 95% bootstrap intervals over the pairs; never: not within the budget)."
         )
         print(paired)
         with open(os.path.join(args.out, "paired.txt"), "w") as f:

@@ -96,7 +96,8 @@ def test_paper_protocol_runs_everything_and_resumes(tmp_path, capsys):
     text = run_paper_protocol(out, **kw)
     err = capsys.readouterr().err
     for part in ("== silicone5: ofnn", "model baselines", "dropout sweep", "paired against random",
-                 "holdout_accuracy", "p (Wilcoxon)", "2 seeds x every test object"):
+                 "holdout_accuracy", "p (Wilcoxon)", "2 seeds x every test object",
+                 "presses to reach random's final accuracy"):
         assert part in text
     assert "runs," in err and "left" in err  # a progress line per finished run
     lines = (out / "results.jsonl").read_text().splitlines()
@@ -156,3 +157,57 @@ def test_paired_table_reports_presses_and_accuracy_at_the_stop():
     assert rows["random", "presses_at_stop"]["mean"] == 40  # settles at t=3
     assert rows["variance", "presses_at_stop"]["diff"] == -10
     assert rows["variance", "accuracy_at_stop"]["mean"] == 1.0
+
+
+def _curve_result(rng, n_pairs=40, early=("fast",), never=("flat",), converged_fail=()):
+    """Runs of 25 initial + 5 x 5 presses; "fast" reaches random's final level two iterations sooner."""
+    recs = []
+    for k in range(n_pairs):
+        for s in ("random", "fast", "flat"):
+            if s == "random":
+                mean = [0.4, 0.45, 0.5, 0.6, 0.7, 0.8]
+            elif s in early:
+                mean = [0.4, 0.6, 0.9, 0.9, 0.9, 0.9]
+            else:
+                mean = [0.4, 0.4, 0.45, 0.45, 0.5, 0.5]
+            acc = np.clip(np.array(mean) + rng.normal(0, 0.1, 6), 0, 1)
+            acc[0] = 0.4  # the shared initial model
+            recs.append({"key": {"strategy": s, "test_class": k % 5, "seed": k // 5},
+                         "converged": (s, k) not in converged_fail, "accuracy": acc.tolist(),
+                         "initial_indices": list(range(25)), "drawn_indices": [list(range(5))] * 5})
+    return ExperimentResult(recs)
+
+
+def test_presses_to_reach_finds_the_strategy_that_gets_there_sooner():
+    from sklearn_hardness.experiments import format_presses_to_reach, presses_to_reach
+
+    rows = {r["strategy"]: r for r in presses_to_reach(_curve_result(np.random.default_rng(0)), n_boot=500)}
+    assert rows["random"]["presses"] == [25, 30, 35, 40, 45, 50]
+    assert rows["random"]["presses_to_reach"] == 50  # random's own final accuracy, at its last press
+    assert rows["fast"]["presses_to_reach"] == 35
+    assert rows["fast"]["diff"] == -15 and rows["fast"]["diff_high"] < 0  # fewer presses, interval below 0
+    assert rows["fast"]["p_reached"] == 1.0
+    assert rows["flat"]["presses_to_reach"] == np.inf and rows["flat"]["p_reached"] < 0.05
+    assert rows["flat"]["ci_high"] == np.inf and rows["flat"]["diff"] == np.inf
+    text = format_presses_to_reach(list(rows.values()))
+    assert "never" in text and "-15 [" in text
+    # the target is the reference's mean final accuracy over the same pairs
+    finals = [r["accuracy"][-1] for r in _curve_result(np.random.default_rng(0)).records
+              if r["key"]["strategy"] == "random"]
+    assert rows["fast"]["target"] == pytest.approx(np.mean(finals))
+
+
+def test_presses_to_reach_pairs_converged_runs_and_is_seeded():
+    from sklearn_hardness.experiments import presses_to_reach
+
+    res = _curve_result(np.random.default_rng(1), converged_fail={("fast", 0), ("random", 1)})
+    rows = {r["strategy"]: r for r in presses_to_reach(res, n_boot=300, random_state=3)}
+    assert rows["fast"]["n_pairs"] == 38 and rows["flat"]["n_pairs"] == 39
+    again = {r["strategy"]: r for r in presses_to_reach(res, n_boot=300, random_state=3)}
+    assert again["fast"]["ci_low"] == rows["fast"]["ci_low"] and again["fast"]["diff_low"] == rows["fast"]["diff_low"]
+    with pytest.raises(ValueError, match="reference strategy 'bald'"):
+        presses_to_reach(res, reference="bald")
+    with pytest.raises(ValueError, match="n_boot"):
+        presses_to_reach(res, n_boot=0)
+    with pytest.raises(ValueError, match="level"):
+        presses_to_reach(res, level=1.5)

@@ -9,7 +9,8 @@
 - :func:`comparison_table`, :func:`format_table`: the paper's Table I.
 - :func:`paired_table`, :func:`format_paired_table`: strategies against
   random over paired runs, with 95% intervals and p-values;
-  :func:`decision_stop`: where a run would have stopped (presses to decision).
+  :func:`decision_stop`: where a run would have stopped (presses to decision);
+  :func:`presses_to_reach`: presses each strategy needs to reach random's final accuracy.
 - :func:`plot_active_sampling`, :func:`plot_uncertainty`,
   :func:`plot_dropout_sweep`, :func:`plot_model_baselines`,
   :func:`save_figures`: the paper's figures (matplotlib, PNG).
@@ -26,7 +27,14 @@ from ._plotting import (
     plot_uncertainty,
     save_figures,
 )
-from ._stats import PAIRED_METRICS, decision_stop, format_paired_table, paired_table
+from ._stats import (
+    PAIRED_METRICS,
+    decision_stop,
+    format_paired_table,
+    format_presses_to_reach,
+    paired_table,
+    presses_to_reach,
+)
 from ._tables import HUMAN_ACCURACY, baseline_table, comparison_table, format_table
 from ._config import MODEL_NAMES, PRESET_CONFIGS, QUICK_OVERRIDES, config_hash, get_config
 from ._results import ExperimentResult, ResultsStore
@@ -43,6 +51,8 @@ __all__ = [
     "format_paired_table",
     "PAIRED_METRICS",
     "decision_stop",
+    "presses_to_reach",
+    "format_presses_to_reach",
     "HUMAN_ACCURACY",
     "plot_active_sampling",
     "plot_uncertainty",

@@ -14,7 +14,7 @@ import os
 
 from ._active import STRATEGIES, run_active_sampling
 from ._baselines import run_dropout_sweep, run_model_baselines
-from ._stats import format_paired_table, paired_table
+from ._stats import format_paired_table, format_presses_to_reach, paired_table, presses_to_reach
 from ._tables import baseline_table, comparison_table, format_table
 
 __all__ = ["PAPER_PROTOCOL", "run_paper_protocol"]
@@ -69,6 +69,9 @@ def run_paper_protocol(out, *, strategies=STRATEGIES, n_runs=None, quick=False, 
             f"-- active sampling, paired against random (converged pairs); holdout_*: {N_HOLDOUT} held-out "
             "presses of every reference object; auc: mean accuracy over iterations 0..N",
             format_paired_table(paired_table(active)),
+            "-- presses to reach random's final accuracy (mean test accuracy over the pairs; 95% bootstrap "
+            "intervals over the pairs)",
+            format_presses_to_reach(presses_to_reach(active)),
             "",
         ]
     text = "\n".join(parts)

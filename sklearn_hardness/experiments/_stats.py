@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["paired_table", "format_paired_table", "PAIRED_METRICS", "decision_stop"]
+__all__ = ["paired_table", "format_paired_table", "PAIRED_METRICS", "decision_stop", "presses_to_reach",
+           "format_presses_to_reach"]
 
 #: Metrics of :func:`paired_table`: (name, record field, reduction, higher is better).
 #: ``auc`` is the mean of the accuracy over iterations 0..N (trapezoid rule,
@@ -222,6 +223,142 @@ def format_paired_table(rows, reference="random"):
         else:
             diff, pt, pw, n = "(reference)", "", "", str(r["n"])
         lines.append([r["strategy"], r["metric"] + (" %" if pct else ""), n, mean, diff, pt, pw])
+    widths = [max(len(str(x)) for x in col) for col in zip(head, *lines)]
+    fmt = lambda row: "  ".join(str(x).ljust(w) for x, w in zip(row, widths)).rstrip()  # noqa: E731
+    return "\n".join([fmt(head), fmt(["-" * w for w in widths])] + [fmt(r) for r in lines])
+
+
+def _curves(records, field="accuracy"):
+    """Per-iteration values (n_runs, N + 1) and the reference presses after each iteration."""
+    curves = np.array([np.asarray(r[field], dtype=float) for r in records])
+    first = records[0]
+    n0 = len(first.get("initial_indices", []))
+    drawn = [len(d) for d in first.get("drawn_indices", [])]
+    presses = n0 + np.concatenate([[0], np.cumsum(drawn)])[: curves.shape[1]]
+    return curves, presses
+
+
+def presses_to_reach(result, reference="random", *, n_boot=2000, level=0.95, random_state=0):
+    """Reference presses each strategy needs to reach the reference's final accuracy.
+
+    The paper always presses ``n_initial + N * n_per_query`` reference
+    objects. A strategy whose mean accuracy on the test presses (over the
+    paired runs) reaches the reference strategy's mean *final* accuracy after
+    fewer iterations gets there with fewer presses. Intervals come from a
+    bootstrap over the (test object, seed) pairs, resampling the strategy's
+    runs and the reference's runs of the same pairs together.
+
+    Parameters
+    ----------
+    result : ExperimentResult
+        From :func:`run_active_sampling`, with ``random`` (or ``reference``).
+    reference : str, default="random"
+        Whose final accuracy is the target.
+    n_boot : int, default=2000
+        Bootstrap resamples of the pairs.
+    level : float, default=0.95
+        Level of the percentile intervals.
+    random_state : int, default=0
+        Seed of the bootstrap.
+
+    Returns
+    -------
+    rows : list of dict
+        One per strategy (the reference too): ``strategy``, ``n_pairs``
+        (pairs where both runs converged), ``target`` (the reference's mean
+        final accuracy over those pairs), ``curve`` (mean accuracy after each
+        iteration), ``presses`` (after each iteration), ``presses_to_reach``
+        (the first press count whose mean accuracy is at least ``target``;
+        inf if it never does), ``ci_low``, ``ci_high`` (bootstrap percentiles;
+        inf when the strategy did not reach the target in more than
+        ``(1 - level) / 2`` of the resamples), ``p_reached`` (fraction of
+        resamples in which it reached the target), and for strategies other
+        than the reference ``diff``, ``diff_low``, ``diff_high`` (presses minus
+        the reference's own presses to reach its final accuracy, over the same
+        resamples; below 0: fewer presses).
+
+    Examples
+    --------
+    >>> from sklearn_hardness.experiments import ExperimentResult, presses_to_reach
+    >>> recs = [{"key": {"strategy": s, "test_class": 0, "seed": k}, "converged": True,
+    ...          "initial_indices": [0] * 10, "drawn_indices": [[0] * 5] * 2, "accuracy": acc}
+    ...         for k in range(6) for s, acc in (("random", [0.2, 0.4, 0.8]), ("variance", [0.2, 0.8, 0.8]))]
+    >>> rows = presses_to_reach(ExperimentResult(recs), n_boot=200)
+    >>> [(r["strategy"], float(r["presses_to_reach"])) for r in rows]
+    [('random', 20.0), ('variance', 15.0)]
+    """
+    if not 0 < level < 1:
+        raise ValueError(f"level must be in (0, 1), got {level!r}.")
+    if int(n_boot) != n_boot or n_boot < 1:
+        raise ValueError(f"n_boot must be a positive integer, got {n_boot!r}.")
+    records = [r for r in result.records if r["key"].get("strategy") is not None and r.get("accuracy")]
+    if not records:
+        raise ValueError("the result has no active-sampling runs with an accuracy per iteration.")
+    strategies = list(dict.fromkeys(r["key"]["strategy"] for r in records))
+    if reference not in strategies:
+        raise ValueError(f"the reference strategy {reference!r} is not in the result ({strategies}).")
+    by = {(r["key"]["strategy"], r["key"]["test_class"], r["key"]["seed"]): r
+          for r in records if r.get("converged", True)}
+    length = max(len(r["accuracy"]) for r in by.values()) if by else 0
+    rng = np.random.default_rng(random_state)
+    lo_q, hi_q = 100 * (1 - level) / 2, 100 * (1 + level) / 2
+
+    def first_reach(curves, target, presses):
+        ok = curves >= target[:, None] - 1e-9  # (n_boot or 1, N + 1)
+        hit = ok.any(axis=1)
+        return np.where(hit, presses[np.argmax(ok, axis=1)], np.inf)
+
+    def interval(values):  # press counts are discrete, and inf (never) must stay inf: no interpolation
+        return tuple(float(np.percentile(values, q, method="inverted_cdf")) for q in (lo_q, hi_q))
+
+    rows = []
+    for s in strategies:
+        pairs = sorted(p[1:] for p in by if p[0] == s and (reference,) + p[1:] in by
+                       and len(by[p]["accuracy"]) == length and len(by[(reference,) + p[1:]]["accuracy"]) == length)
+        row = {"strategy": s, "n_pairs": len(pairs)}
+        if not pairs:
+            rows.append(dict(row, target=np.nan, curve=[], presses=[], presses_to_reach=np.nan,
+                             ci_low=np.nan, ci_high=np.nan, p_reached=np.nan))
+            continue
+        own, presses = _curves([by[(s,) + p] for p in pairs])
+        ref, _ = _curves([by[(reference,) + p] for p in pairs])
+        target = ref[:, -1].mean()
+        point = first_reach(own.mean(axis=0)[None], np.array([target]), presses)[0]
+        idx = rng.integers(0, len(pairs), size=(int(n_boot), len(pairs)))
+        boot_target = ref[idx, -1].mean(axis=1)
+        boot = first_reach(own[idx].mean(axis=1), boot_target, presses)
+        lo, hi = interval(boot)
+        row.update(target=float(target), curve=own.mean(axis=0).tolist(), presses=presses.tolist(),
+                   presses_to_reach=float(point),
+                   ci_low=lo, ci_high=hi, p_reached=float(np.mean(np.isfinite(boot))))
+        if s != reference:
+            ref_boot = first_reach(ref[idx].mean(axis=1), boot_target, presses)  # finite: the final reaches
+            ref_point = first_reach(ref.mean(axis=0)[None], np.array([target]), presses)[0]
+            d = boot - ref_boot  # inf where the strategy did not reach the target
+            dlo, dhi = interval(d)
+            row.update(diff=float(point - ref_point), diff_low=dlo, diff_high=dhi)
+        rows.append(row)
+    return rows
+
+
+def format_presses_to_reach(rows, reference="random"):
+    """Plain-text table of :func:`presses_to_reach` rows."""
+    def num(x):
+        return "n/a" if x is None or np.isnan(x) else ("never" if np.isinf(x) else f"{x:g}")
+
+    head = ["strategy", "pairs", f"{reference}'s final accuracy", "presses to reach it [95% CI]",
+            "reached in", f"- {reference} [95% CI]"]
+    lines = []
+    for r in rows:
+        reach = f"{num(r['presses_to_reach'])} [{num(r['ci_low'])}, {num(r['ci_high'])}]"
+        target = "n/a" if np.isnan(r["target"]) else f"{100 * r['target']:.1f}%"
+        if "diff" in r:
+            sign = "+" if 0 < r["diff"] < np.inf else ""
+            diff = f"{sign}{num(r['diff'])} [{num(r['diff_low'])}, {num(r['diff_high'])}]"
+        else:
+            diff = "(reference)" if r["strategy"] == reference else ""
+        p = "n/a" if np.isnan(r["p_reached"]) else f"{100 * r['p_reached']:.0f}%"
+        lines.append([r["strategy"], str(r["n_pairs"]), target, reach, p, diff])
     widths = [max(len(str(x)) for x in col) for col in zip(head, *lines)]
     fmt = lambda row: "  ".join(str(x).ljust(w) for x, w in zip(row, widths)).rstrip()  # noqa: E731
     return "\n".join([fmt(head), fmt(["-" * w for w in widths])] + [fmt(r) for r in lines])
