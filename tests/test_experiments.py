@@ -338,3 +338,24 @@ def test_early_stopping_cuts_epochs_and_is_recorded():
     assert sum(runs[1]) < sum(runs[None])  # patience 1 stops at the first epoch without progress
     with pytest.raises(ValueError, match="early_stopping"):
         run_active_sampling(tiny_presses(), model="ofnn", verbose=0, early_stopping=0, **TINY)
+
+
+def test_frame_size_is_written_out_and_old_results_stay_resumable():
+    from sklearn_hardness.experiments import config_hash, get_config
+    from sklearn_hardness.experiments._config import check_config
+
+    new = check_config(get_config("silicone5"))
+    assert new["frame_size"] == (12, 16)  # the default, written out (config.json, hash)
+    assert config_hash(new) == config_hash(check_config(get_config("silicone5", frame_size=[12, 16])))
+    # before: frame_size=None meant 18x24 and early stopping did not exist
+    old = {k: v for k, v in check_config(get_config("silicone5", early_stopping=None)).items()
+           if k != "early_stopping"}
+    old["frame_size"] = None
+    paper = check_config(get_config("silicone5", frame_size=(18, 24), early_stopping=None))
+    assert config_hash(paper) == config_hash(old)  # results of the old default resume as 18x24
+    assert config_hash(new) != config_hash(dict(new, frame_size=(18, 24)))  # never as 12x16
+    assert check_config(get_config("shore9", model="ofnn"))["frame_size"] == (120, 160)
+    with pytest.raises(ValueError, match="frame_size must be None or"):
+        check_config(get_config("silicone5", frame_size=(12, 0)))
+    with pytest.raises(ValueError, match="frame_size must be None or"):
+        check_config(get_config("silicone5", frame_size="12x16"))

@@ -224,6 +224,12 @@ def _jsonable(value):
 _LATER_KEYS = {"n_ensemble": 0, "device": "cpu", "early_stopping": None, "crop_contact": None}
 
 
+#: Each named model's frame size while ``frame_size=None`` meant it in the hash (before
+#: check_config wrote the size out and the ConvLSTM's default became 12x16): hashed as None,
+#: so results files made then stay resumable under the same frames.
+_SIZES_HASHED_AS_NONE = {"convlstm": (18, 24), "ofnn": (120, 160), "dinov2nn": (112, 150)}
+
+
 def config_hash(config):
     """A short stable hash of a configuration (JSON with sorted keys, SHA-256).
 
@@ -231,5 +237,8 @@ def config_hash(config):
     new runs instead of mixing results.
     """
     config = {k: v for k, v in config.items() if not (k in _LATER_KEYS and v == _LATER_KEYS[k])}
+    size = config.get("frame_size")
+    if size is not None and tuple(size) == _SIZES_HASHED_AS_NONE.get(config.get("model")):
+        config["frame_size"] = None
     text = json.dumps(_jsonable(config), sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:12]
