@@ -340,6 +340,8 @@ def _run_reproduce(args):
         f"{cfg['preset']}: {cfg['model']}, s0={cfg['n_initial']}, s={cfg['n_per_query']}, N={n_it}, "
         f"e0={cfg['initial_epochs']}, e={cfg['epochs_per_query']}, M={cfg['max_reservoir']}, "
         f"dropout={cfg['dropout']}, n_test={cfg['n_test']}, MC passes={cfg['n_mc_samples']}"
+        + (f", frames={cfg['frame_size'][0]}x{cfg['frame_size'][1]}" if cfg.get("frame_size") else "")
+        + (f", early stopping={cfg['early_stopping']}" if cfg.get("early_stopping") else ", every epoch")
         + (" [quick]" if args.quick else "")
     )
     note = (
