@@ -355,6 +355,11 @@ def test_frame_size_is_written_out_and_old_results_stay_resumable():
     assert config_hash(paper) == config_hash(old)  # results of the old default resume as 18x24
     assert config_hash(new) != config_hash(dict(new, frame_size=(18, 24)))  # never as 12x16
     assert check_config(get_config("shore9", model="ofnn"))["frame_size"] == (120, 160)
+    # an estimator gets the ConvLSTM's frames: written out too, and its old results resume the same way
+    custom = check_config(get_config("silicone5", model="MyPipeline()"))
+    assert custom["frame_size"] == (12, 16)
+    assert config_hash(dict(custom, frame_size=(18, 24))) == config_hash(dict(custom, frame_size=None))
+    assert config_hash(custom) != config_hash(dict(custom, frame_size=None))
     with pytest.raises(ValueError, match="frame_size must be None or"):
         check_config(get_config("silicone5", frame_size=(12, 0)))
     with pytest.raises(ValueError, match="frame_size must be None or"):

@@ -37,6 +37,11 @@ MODEL_INPUTS = {
     "dinov2nn": {"frame_size": (112, 150), "color": "rgb", "subtract_first": True},
 }
 
+def _input_name(model):
+    """The :data:`MODEL_INPUTS` entry a model gets: its own if named, the ConvLSTM's for any estimator."""
+    return model if isinstance(model, str) and model in MODEL_INPUTS else "convlstm"
+
+
 _COMMON = {
     "n_initial": 5,  # s0
     "n_per_query": 5,  # s
@@ -189,10 +194,10 @@ def check_config(cfg):
             f"n_per_query={cfg['n_per_query']} new presses per iteration; the training "
             "subset could not even hold one batch."
         )
-    if cfg["frame_size"] is None and cfg.get("model") in MODEL_INPUTS:
-        # the named model's frame size, written out: the config hash and config.json then say
-        # which frames a run saw, also after the default changed (18x24 before 12x16)
-        cfg["frame_size"] = MODEL_INPUTS[cfg["model"]]["frame_size"]
+    if cfg["frame_size"] is None:
+        # the model's frame size, written out: the config hash and config.json then say which
+        # frames a run saw, also after the default changed (18x24 before 12x16)
+        cfg["frame_size"] = MODEL_INPUTS[_input_name(cfg.get("model"))]["frame_size"]
     size = cfg["frame_size"]
     if size is not None:
         if (isinstance(size, str) or not hasattr(size, "__len__") or len(size) != 2
@@ -224,7 +229,7 @@ def _jsonable(value):
 _LATER_KEYS = {"n_ensemble": 0, "device": "cpu", "early_stopping": None, "crop_contact": None}
 
 
-#: Each named model's frame size while ``frame_size=None`` meant it in the hash (before
+#: The frame size ``frame_size=None`` meant in the hash, per :func:`_input_name` (before
 #: check_config wrote the size out and the ConvLSTM's default became 12x16): hashed as None,
 #: so results files made then stay resumable under the same frames.
 _SIZES_HASHED_AS_NONE = {"convlstm": (18, 24), "ofnn": (120, 160), "dinov2nn": (112, 150)}
@@ -238,7 +243,7 @@ def config_hash(config):
     """
     config = {k: v for k, v in config.items() if not (k in _LATER_KEYS and v == _LATER_KEYS[k])}
     size = config.get("frame_size")
-    if size is not None and tuple(size) == _SIZES_HASHED_AS_NONE.get(config.get("model")):
+    if size is not None and tuple(size) == _SIZES_HASHED_AS_NONE[_input_name(config.get("model"))]:
         config["frame_size"] = None
     text = json.dumps(_jsonable(config), sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:12]

@@ -21,7 +21,7 @@ from sklearn.base import BaseEstimator, clone
 from sklearn.utils import Bunch
 
 from ..utils._random import set_random_states
-from ._config import MODEL_INPUTS, MODEL_NAMES
+from ._config import MODEL_INPUTS, MODEL_NAMES, _input_name
 
 __all__ = ["load_dataset", "prepare_inputs", "make_estimator"]
 
@@ -75,7 +75,7 @@ def load_dataset(dataset, cfg):
 
 
 def _frame_params(cfg, model):
-    name = model if isinstance(model, str) else "convlstm"
+    name = _input_name(model)
     size = cfg["frame_size"] or MODEL_INPUTS[name]["frame_size"]
     color = cfg["color"] or MODEL_INPUTS[name]["color"]
     params = {
