@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._tables import render_columns
+
 __all__ = ["paired_table", "format_paired_table", "PAIRED_METRICS", "decision_stop", "presses_to_reach",
            "format_presses_to_reach"]
 
@@ -223,9 +225,7 @@ def format_paired_table(rows, reference="random"):
         else:
             diff, pt, pw, n = "(reference)", "", "", str(r["n"])
         lines.append([r["strategy"], r["metric"] + (" %" if pct else ""), n, mean, diff, pt, pw])
-    widths = [max(len(str(x)) for x in col) for col in zip(head, *lines)]
-    fmt = lambda row: "  ".join(str(x).ljust(w) for x, w in zip(row, widths)).rstrip()  # noqa: E731
-    return "\n".join([fmt(head), fmt(["-" * w for w in widths])] + [fmt(r) for r in lines])
+    return render_columns(head, lines)
 
 
 def _curves(records, field="accuracy"):
@@ -359,6 +359,4 @@ def format_presses_to_reach(rows, reference="random"):
             diff = "(reference)" if r["strategy"] == reference else ""
         p = "n/a" if np.isnan(r["p_reached"]) else f"{100 * r['p_reached']:.0f}%"
         lines.append([r["strategy"], str(r["n_pairs"]), target, reach, p, diff])
-    widths = [max(len(str(x)) for x in col) for col in zip(head, *lines)]
-    fmt = lambda row: "  ".join(str(x).ljust(w) for x, w in zip(row, widths)).rstrip()  # noqa: E731
-    return "\n".join([fmt(head), fmt(["-" * w for w in widths])] + [fmt(r) for r in lines])
+    return render_columns(head, lines)

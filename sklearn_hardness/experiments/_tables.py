@@ -115,7 +115,11 @@ def format_table(rows, mae_unit=None):
             row.append(_pct(r.get("train_accuracy_mean", np.nan), r.get("train_accuracy_std", np.nan)))
         row += [_num(r["mae_mean"], r["mae_std"]), runs, "" if conv is None else f"{100 * conv:.0f}%"]
         lines.append(row)
+    return render_columns(head, lines)
+
+
+def render_columns(head, lines):
+    """Plain-text columns padded to their widest cell, a dashed rule under the header."""
     widths = [max(len(str(x)) for x in col) for col in zip(head, *lines)]
     fmt = lambda row: "  ".join(str(x).ljust(w) for x, w in zip(row, widths)).rstrip()  # noqa: E731
-    out = [fmt(head), fmt(["-" * w for w in widths])] + [fmt(r) for r in lines]
-    return "\n".join(out)
+    return "\n".join([fmt(head), fmt(["-" * w for w in widths])] + [fmt(r) for r in lines])
