@@ -234,3 +234,52 @@ def test_in_pipeline_with_pandas_output(X_small):
         df = pipe.fit_transform(X_small)
     assert isinstance(df, pd.DataFrame)
     assert list(df.columns[:2]) == ["c0_t1_dx", "c0_t1_dy"]
+
+
+# ------------------------------------------------------------ magnitude quantiles
+@pytest.mark.parametrize("shift", [(0.7, -0.4), (2.5, 0.0)])
+def test_magnitude_quantiles_measure_the_motion(shift):
+    """A translation by ``shift`` per frame: the median magnitude is t * |shift| at frame t."""
+    k = 4
+    X = translating_video(shift, k=k)[np.newaxis]
+    of = OpticalFlowFeatures(n_features=40, min_distance=3, output="magnitude_quantiles").fit(X)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        Xt = of.transform(X)
+    assert Xt.shape == (1, (k - 1) * 6) == (1, of.n_features_out_) and Xt.dtype == np.float32
+    names = of.get_feature_names_out().tolist()
+    assert names[:6] == ["t1_mag_q50", "t1_mag_q75", "t1_mag_q90", "t1_mag_q99", "t1_mag_max", "t1_mag_mean"]
+    assert len(names) == Xt.shape[1] and names[-1] == f"t{k - 1}_mag_mean"
+    median = np.exp(Xt.reshape(k - 1, 6)[:, 0]) - 0.01
+    np.testing.assert_allclose(median, np.arange(1, k) * np.hypot(*shift), rtol=0.1)
+    # quantiles are ordered within each frame: q50 <= q75 <= q90 <= q99 <= max
+    assert np.all(np.diff(Xt.reshape(k - 1, 6)[:, :5], axis=1) >= 0)
+
+
+def test_magnitude_quantiles_do_not_depend_on_which_corner_is_which(X_small):
+    """The flattened tracks change when the corners are re-ordered; the summary does not.
+
+    Mirroring the frames moves every corner to a new place (and so to another
+    slot of the quality order) but keeps every displacement's length.
+    """
+    kw = dict(n_features=12, min_distance=2)
+    mirrored = X_small[:, :, :, ::-1].copy()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        tracks = OpticalFlowFeatures(**kw).fit(X_small)
+        summary = OpticalFlowFeatures(output="magnitude_quantiles", **kw).fit(X_small)
+        np.testing.assert_allclose(summary.transform(mirrored), summary.transform(X_small), atol=0.05)
+        assert np.abs(tracks.transform(mirrored) - tracks.transform(X_small)).max() > 0.5
+
+
+def test_magnitude_quantiles_of_flat_frames_and_bad_options():
+    X = np.zeros((2, 3, 16, 20, 1), dtype=np.float32)
+    of = OpticalFlowFeatures(n_features=5, output="magnitude_quantiles").fit(X)
+    with pytest.warns(UserWarning, match="corners found in the first frame"):
+        Xt = of.transform(X)
+    np.testing.assert_allclose(Xt, np.log(0.01))  # no corners: no motion seen, never NaN
+    for bad in ({"include_valid": True}, {"include_positions": True}):
+        with pytest.raises(ValueError, match="do not apply to output='magnitude_quantiles'"):
+            OpticalFlowFeatures(output="magnitude_quantiles", **bad).fit(X)
+    with pytest.raises(InvalidParameterError, match="output"):
+        OpticalFlowFeatures(output="histogram").fit(X)
