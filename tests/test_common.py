@@ -49,6 +49,7 @@ from sklearn_hardness.models import (
     DINOv2NNClassifier,
     EnsembleClassifier,
     FrameScaler,
+    IntensityChannels,
     OFNNClassifier,
 )
 from sklearn_hardness.preprocessing import ContactFrameSelector
@@ -80,6 +81,7 @@ ESTIMATORS = {
         lambda: DINOv2Features(model=_tiny_dinov2_backbone(), image_size=28, batch_size=4), "frames"
     ),
     "FrameScaler": (FrameScaler, "frames"),
+    "IntensityChannels": (IntensityChannels, "frames"),
     "ContactProfileFeatures": (lambda: ContactProfileFeatures(), "videos"),
     "OFNNClassifier": (_ofnn, "table"),
     "DINOv2NNClassifier": (

@@ -14,6 +14,7 @@ convergence rule.
 from ._convergence import check_convergence, is_converged
 from ._convlstm import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
 from ._ensemble import EnsembleClassifier
+from ._intensity_channels import IntensityChannels
 from ._mc_dropout import MCDropoutClassifierBase
 from ._mc_sampling import MCDropout
 from ._mlp import DINOv2NNClassifier, MLPHead, OFNNClassifier
@@ -24,6 +25,7 @@ __all__ = [
     "make_ofnn_pipeline",
     "make_dinov2nn_pipeline",
     "FrameScaler",
+    "IntensityChannels",
     "MCDropoutPipeline",
     "OFNNClassifier",
     "DINOv2NNClassifier",
