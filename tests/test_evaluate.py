@@ -112,3 +112,19 @@ def test_cli_evaluate_on_a_manifest(tmp_path, capsys):
     assert saved["target_names"] == ["hard", "moderate", "soft"] and len(saved["fold_scores"]["peak_change"]) == 3
     assert main(["evaluate", str(tmp_path / "missing.csv"), "--pipelines"]) == 2
     assert "neither a simulator preset" in capsys.readouterr().err
+
+
+def test_named_nets_are_seeded_by_random_state():
+    """A run by name repeats exactly: the nets take the evaluation's seed."""
+    from sklearn_hardness.experiments._evaluate import _named_pipeline
+
+    assert _named_pipeline("ofnn", 3)[-1].random_state == 3
+    conv = _named_pipeline("convlstm", 3)
+    assert conv[-1].random_state == 3 and "intensity" in conv.named_steps
+    assert _named_pipeline("ofnn")[-1].random_state is None
+
+
+def test_a_run_by_name_repeats_exactly(tiny):
+    a = evaluate_pipelines(tiny, pipelines=["ofnn"], cv=3, random_state=1)
+    b = evaluate_pipelines(tiny, pipelines=["ofnn"], cv=3, random_state=1)
+    np.testing.assert_array_equal(a.predictions["ofnn"], b.predictions["ofnn"])

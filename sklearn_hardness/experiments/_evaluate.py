@@ -24,7 +24,7 @@ from sklearn.metrics import balanced_accuracy_score, confusion_matrix
 from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import FunctionTransformer, StandardScaler
-from sklearn.utils import Bunch, _safe_indexing
+from sklearn.utils import Bunch, _safe_indexing, check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
 __all__ = [
@@ -96,7 +96,8 @@ def make_peak_change_baseline(class_weight="balanced"):
                          LogisticRegression(class_weight=class_weight))
 
 
-def _named_pipeline(name):
+def _named_pipeline(name, seed=None):
+    """A pipeline known by name; ``seed`` seeds the nets' initial weights, shuffling and dropout."""
     from .. import models
 
     if name == "peak_change":
@@ -106,7 +107,10 @@ def _named_pipeline(name):
 
         return make_pipeline(ContactProfileFeatures(), StandardScaler(),
                              LogisticRegression(class_weight="balanced", max_iter=2000))
-    return getattr(models, f"make_{name}_pipeline")()
+    if name == "convlstm":
+        # the test objects are never seen in training here: the input that carries over to them
+        return models.make_convlstm_pipeline(intensity_channels=True, random_state=seed)
+    return getattr(models, f"make_{name}_pipeline")(random_state=seed)
 
 
 def _load_dataset(dataset, random_state):
@@ -193,7 +197,8 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
         ``"contact_profile"`` (:class:`~sklearn_hardness.features.ContactProfileFeatures`
         + balanced logistic regression), ``"convlstm"``, ``"ofnn"``,
         ``"dinov2nn"`` (the ready-made pipelines of
-        :mod:`sklearn_hardness.models` at their defaults).
+        :mod:`sklearn_hardness.models` at their defaults, the ConvLSTM with
+        ``intensity_channels=True``, its input for unseen objects).
         None: ``["convlstm", "ofnn"]``.
     cv : int, default=5
         Number of folds. Every class needs at least ``cv`` objects.
@@ -205,7 +210,9 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
     n_jobs : int or None, default=None
         Folds run in parallel through joblib.
     random_state : int, RandomState instance or None, default=0
-        Seed of the fold assignment (and of a simulated dataset).
+        Seed of the fold assignment, of a simulated dataset and of the nets
+        of the pipelines given by name (so a run repeats exactly; pass
+        seeded estimators in a dict to control them yourself).
 
     Returns
     -------
@@ -262,7 +269,11 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
         if unknown:
             raise ValueError(f"unknown pipeline(s) {unknown}; choose among {list(PIPELINE_NAMES)} "
                              "or pass a dict {name: estimator}.")
-        named = {p: _named_pipeline(p) for p in pipelines}
+        if random_state is None or isinstance(random_state, numbers.Integral):
+            seed = random_state
+        else:
+            seed = int(check_random_state(random_state).randint(np.iinfo(np.int32).max))
+        named = {p: _named_pipeline(p, seed) for p in pipelines}
     if baseline and "peak_change" not in named:
         named = {"peak_change": make_peak_change_baseline(), **named}
     if not named:
