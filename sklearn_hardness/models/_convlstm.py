@@ -305,7 +305,9 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
     placement and :class:`FrameScaler`) 18x24 grey frames gave
     55.1% +- 4.7% test accuracy in 166 s for all seeds and 36x48 gave
     44.8% +- 2.7% in 491 s: larger frames cost time and did not help with 25
-    training presses, so the pipelines default to 18x24.
+    training presses. The experiments and :func:`make_convlstm_pipeline`
+    now use 12x16, the fastest point of the time/error front of the
+    active-sampling runs (``docs/user_guide/runtime.rst``).
 
     Examples
     --------
