@@ -27,6 +27,7 @@ from sklearn.utils._param_validation import (
 from sklearn.utils.validation import check_is_fitted
 
 from ._strategies import STRATEGY_NAMES, get_strategy, variance_sampling
+from ..utils._random import int_seed
 from ._uncertainty import UNCERTAINTY_KINDS, class_uncertainty, variance_decomposition
 
 __all__ = ["ActiveLearner"]
@@ -82,11 +83,6 @@ def _n_rows(X):
     if hasattr(X, "shape") and getattr(X, "ndim", 1) >= 1:
         return X.shape[0]
     return len(X)
-
-
-def _seed_from(rng):
-    """An int seed drawn from a RandomState (for APIs that want an int)."""
-    return int(rng.randint(np.iinfo(np.int32).max))
 
 
 def _accepts_kwargs(func, names):
@@ -379,7 +375,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
 
         from ..models._mc_dropout import _GLOBAL_RNG_LOCK, MCDropoutClassifierBase
 
-        seed = _seed_from(self._rng)
+        seed = int_seed(self._rng)
         final = self._final()
         if isinstance(final, MCDropoutClassifierBase) and final.random_state is not None:
             # our nets draw from their own generators, seeded by random_state: no
@@ -622,9 +618,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
                 "the test object."
             )
         proba = self.predict_proba_samples(
-            X_test, n_samples=self.n_mc_samples, random_state=_seed_from(self._rng)
+            X_test, n_samples=self.n_mc_samples, random_state=int_seed(self._rng)
         )
-        kwargs = {"random_state": _seed_from(self._rng)}
+        kwargs = {"random_state": int_seed(self._rng)}
         kwargs = {k: v for k, v in kwargs.items() if k in _accepts_kwargs(strategy, kwargs)}
         result = strategy(proba, n_instances, **kwargs)
         if isinstance(result, tuple) and len(result) == 2:

@@ -24,8 +24,10 @@ from sklearn.metrics import balanced_accuracy_score, confusion_matrix
 from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import FunctionTransformer, StandardScaler
-from sklearn.utils import Bunch, _safe_indexing, check_random_state
+from sklearn.utils import Bunch, _safe_indexing
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
+
+from ..utils._random import int_seed
 
 __all__ = [
     "evaluate_pipelines",
@@ -269,10 +271,7 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
         if unknown:
             raise ValueError(f"unknown pipeline(s) {unknown}; choose among {list(PIPELINE_NAMES)} "
                              "or pass a dict {name: estimator}.")
-        if random_state is None or isinstance(random_state, numbers.Integral):
-            seed = random_state
-        else:
-            seed = int(check_random_state(random_state).randint(np.iinfo(np.int32).max))
+        seed = int_seed(random_state)
         named = {p: _named_pipeline(p, seed) for p in pipelines}
     if baseline and "peak_change" not in named:
         named = {"peak_change": make_peak_change_baseline(), **named}

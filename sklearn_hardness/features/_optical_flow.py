@@ -330,7 +330,7 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
             disp = np.diff(disp, axis=2, prepend=disp[:, :, :1])
         if self.output == "magnitude_quantiles":
             out = _magnitude_quantiles(disp[:, :, 1:], valid[:, :, 0])
-            self._warn_tracks(tr, n, m, valid)
+            self._warn_tracks(tr)
             return out
         blocks = []
         if self.include_positions:
@@ -340,11 +340,13 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
             steps = np.concatenate([steps, valid[:, :, 1:, None].astype(np.float32)], axis=-1)
         blocks.append(steps.reshape(n, m, -1))
         out = np.concatenate(blocks, axis=-1).reshape(n, -1).astype(np.float32, copy=False)
-        self._warn_tracks(tr, n, m, valid)
+        self._warn_tracks(tr)
         return out
 
-    def _warn_tracks(self, tr, n, m, valid):
-        """Warn about padded samples and lost tracks."""
+    def _warn_tracks(self, tr):
+        """Warn about the padded samples and lost tracks of :meth:`track`'s result ``tr``."""
+        n, m, _ = tr.valid.shape
+        valid = tr.valid
         n_padded = int(np.sum(tr.n_corners < m))
         exists = valid[:, :, 0]
         n_lost = int(np.sum(exists & ~valid[:, :, -1]))
