@@ -17,6 +17,7 @@ from sklearn.pipeline import Pipeline
 from sklearn.utils.metaestimators import available_if
 from sklearn.utils.validation import check_is_fitted
 
+from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
 
 __all__ = [
@@ -104,6 +105,9 @@ class FrameScaler(TransformerMixin, BaseEstimator):
     def transform(self, X):
         check_is_fitted(self, "scale_")
         return check_frames_array(X) / np.float32(self.scale_)
+
+    def __sklearn_tags__(self):
+        return frames_tags(super().__sklearn_tags__())
 
 
 def _selector(n_between, frame_size, color, subtract_first=True):

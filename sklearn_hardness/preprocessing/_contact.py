@@ -14,6 +14,7 @@ from sklearn.utils import Bunch
 from sklearn.utils._param_validation import Interval, StrOptions
 from sklearn.utils.validation import check_is_fitted
 
+from ..utils._tags import videos_tags
 from ..utils._validation import check_video, check_video_sequence
 
 __all__ = ["ContactFrameSelector", "ContactNotFoundWarning", "contact_curve"]
@@ -683,7 +684,4 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         return out
 
     def __sklearn_tags__(self):
-        tags = super().__sklearn_tags__()
-        tags.requires_fit = True
-        tags.input_tags.two_d_array = True  # keep sklearn's common checks running (see tests)
-        return tags
+        return videos_tags(super().__sklearn_tags__())
