@@ -37,6 +37,7 @@ from sklearn.utils._param_validation import (
     validate_parameter_constraints,
 )
 from sklearn.utils.class_weight import compute_class_weight
+from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_consistent_length, column_or_1d
 
 from ._mc_sampling import _GLOBAL_RNG_LOCK, MC_MEMORY_BUDGET, MCDropout, dropout_generator, sample_proba, softmax
@@ -296,7 +297,8 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
         """Validate training data; on a cold start size the net from it."""
         cold = not self._has_input_meta()
         if y is None:
-            raise ValueError(f"{type(self).__name__} needs labels y for training, got y=None.")
+            raise ValueError(f"{type(self).__name__} requires y to be passed, but the target y is None "
+                             "(it needs labels y for training).")
         X = self._check_X(X, reset=cold)
         y = self._check_y(y)
         check_consistent_length(X, y)
@@ -314,7 +316,7 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             raise ValueError(f"classes must be a 1-D list of distinct labels, got {cls!r}.")
         if len(cls) < 2:
             raise ValueError(
-                f"{type(self).__name__} needs at least 2 classes, got {len(cls)} "
+                f"{type(self).__name__} needs at least 2 classes, got {len(cls)} class "
                 f"({cls.tolist()}); pass classes=[...] to declare all labels."
             )
         self.classes_inferred_ = cls
@@ -391,12 +393,12 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
     def _check_y(y):
         y = np.asarray(y)
         if y.ndim == 2 and y.shape[1] == 1:
-            y = y.ravel()
+            y = column_or_1d(y, warn=True)  # DataConversionWarning, as scikit-learn's estimators
         if y.ndim != 1:
             raise ValueError(f"y must be a 1-D array of labels, got shape {y.shape}.")
-        y = column_or_1d(y)
         if y.dtype.kind == "f" and not np.isfinite(y).all():
             raise ValueError("y contains NaN or infinite labels.")
+        check_classification_targets(y)  # continuous targets: "Unknown label type"
         return y
 
     def _encode(self, y):
