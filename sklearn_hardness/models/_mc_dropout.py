@@ -40,11 +40,10 @@ from sklearn.utils.class_weight import compute_class_weight
 from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_consistent_length, column_or_1d
 
-from ._mc_sampling import _GLOBAL_RNG_LOCK, MC_MEMORY_BUDGET, MCDropout, dropout_generator, sample_proba, softmax
+from ..utils._torch import seeded_torch_rng
+from ._mc_sampling import MC_MEMORY_BUDGET, MCDropout, dropout_generator, sample_proba, softmax
 
 __all__ = ["MCDropout", "MCDropoutClassifierBase"]
-
-# _GLOBAL_RNG_LOCK stays importable from here: active/_learner.py uses it.
 
 
 def resolve_device(device):
@@ -270,8 +269,7 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
         if seed is None:
             module = module_cls(**kwargs)
         else:
-            with _GLOBAL_RNG_LOCK, torch.random.fork_rng(devices=[]):
-                torch.manual_seed(seed)
+            with seeded_torch_rng(seed):
                 module = module_cls(**kwargs)
         self.module_ = module.to(self.device)
         return self
