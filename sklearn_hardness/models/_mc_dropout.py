@@ -40,17 +40,11 @@ from sklearn.utils.class_weight import compute_class_weight
 from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_consistent_length, column_or_1d
 
-from ..utils._torch import seeded_torch_rng
+from ..utils._torch import resolve_device, seeded_torch_rng
 from ._mc_sampling import MC_MEMORY_BUDGET, MCDropout, dropout_generator, sample_proba, softmax
+from ._persistence import NetPersistenceMixin
 
 __all__ = ["MCDropout", "MCDropoutClassifierBase"]
-
-
-def resolve_device(device):
-    """Map ``"auto"`` to ``"cuda"`` when a GPU is available, else ``"cpu"``."""
-    if isinstance(device, str) and device == "auto":
-        return "cuda" if torch.cuda.is_available() else "cpu"
-    return device
 
 
 class _TrainingDataSetter(Callback):
@@ -64,24 +58,7 @@ class _TrainingDataSetter(Callback):
         net._prepare_training(X, y)
 
 
-class _SavedGenerator(tuple):
-    """A pickled torch.Generator: device type, initial seed, state (a CPU byte tensor)."""
-
-    def __new__(cls, device_type, seed, gen_state):
-        return super().__new__(cls, (device_type, seed, gen_state))
-
-    def __getnewargs__(self):
-        return tuple(self)
-
-    def restore(self, device):
-        device_type, seed, gen_state = self
-        gen = torch.Generator(device=device).manual_seed(seed)
-        if device.type == device_type:
-            gen.set_state(gen_state)  # same kind of device: continue exactly where it stopped
-        return gen
-
-
-class MCDropoutClassifierBase(NeuralNetClassifier):
+class MCDropoutClassifierBase(NetPersistenceMixin, NeuralNetClassifier):
     """Base class of the MC-dropout classifiers (not for direct use).
 
     Subclasses define ``_check_X(X, reset)`` (validate input, remember its
@@ -168,33 +145,6 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
         if "device" in self.__dict__:
             params["device"] = self.__dict__["device"]
         return params
-
-    # The seeded generators are saved as (device type, seed, state) rather than as
-    # torch.Generator objects: a CUDA generator cannot be unpickled where torch has no
-    # CUDA, so a net trained on a GPU could not be loaded on a CPU-only machine.
-    _generator_attrs = ("shuffle_generator_", "dropout_generator_")
-
-    def __getstate__(self):
-        state = super().__getstate__()
-        for name in self._generator_attrs:
-            gen = state.get(name)
-            if isinstance(gen, torch.Generator):
-                state[name] = _SavedGenerator(gen.device.type, int(gen.initial_seed()), gen.get_state())
-        return state
-
-    def __setstate__(self, state):
-        raw = state.get("device")
-        state["device"] = resolve_device(raw)
-        super().__setstate__(state)
-        if raw == "auto":
-            self.__dict__["device"] = raw
-        for name in self._generator_attrs:
-            saved = self.__dict__.get(name)
-            if isinstance(saved, _SavedGenerator):
-                # the shuffling generator is always a CPU one; the dropout masks' lives on the
-                # net's device, which skorch has just mapped to the CPU if CUDA is missing here
-                device = torch.device("cpu") if name == "shuffle_generator_" else torch.device(self.device)
-                self.__dict__[name] = saved.restore(device)
 
     def set_params(self, **kwargs):
         # scikit-learn convention: set_params stores and never raises; a bad value is
@@ -572,42 +522,3 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             # so their variance is exactly 0).
             out = np.repeat(self.predict_proba(X)[np.newaxis], n_samples, axis=0)
         return out
-
-    # ------------------------------------------------------------------
-    # persistence
-    def load_params(self, f_params=None, *args, **kwargs):
-        """Load saved parameters (``torch.load(..., weights_only=True)``).
-
-        Works on a fresh net (after ``initialize()`` or not): the input
-        metadata (input size, and for the ConvLSTM the input statistics) is
-        read from the saved parameters; pass ``classes=[...]`` to the
-        constructor to get the original labels back (otherwise ``classes_``
-        is ``0..n_classes-1``). See :meth:`skorch.NeuralNet.load_params` for
-        the other arguments.
-
-        Returns
-        -------
-        self
-        """
-        raw_device = self.__dict__.get("device")
-        fresh = not (getattr(self, "initialized_", False) and self._has_input_meta())
-        if fresh and f_params is not None and not kwargs.get("use_safetensors"):
-            pos = f_params.tell() if hasattr(f_params, "tell") else None
-            state = torch.load(f_params, map_location="cpu", weights_only=True)
-            if pos is not None:
-                f_params.seek(pos)
-            if not getattr(self, "initialized_", False):
-                self.initialize()
-            n_classes = self._meta_from_state_dict(state)
-            if self.classes is None:
-                self.classes_inferred_ = np.arange(n_classes)
-            elif len(self.classes) != n_classes:
-                raise ValueError(
-                    f"The saved parameters have {n_classes} classes but classes has "
-                    f"{len(self.classes)} labels."
-                )
-            self._rebuild()
-        super().load_params(f_params, *args, **kwargs)
-        if raw_device == "auto":
-            self.__dict__["device"] = raw_device
-        return self

@@ -1,4 +1,4 @@
-"""Seeded sections of torch's process-wide random generator, safe across threads."""
+"""Torch helpers shared by the nets: the device ``"auto"`` and seeded sections of torch's global generator."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import threading
 
 import torch
 
-__all__ = ["GLOBAL_TORCH_RNG_LOCK", "seeded_torch_rng"]
+__all__ = ["GLOBAL_TORCH_RNG_LOCK", "resolve_device", "seeded_torch_rng"]
 
 #: Seeding torch's *global* generator (fork_rng + manual_seed) is process-wide: two
 #: threads doing it at once (joblib's threading backend, a Dask cluster of threads)
@@ -28,3 +28,10 @@ def seeded_torch_rng(seed, device=None):
     with GLOBAL_TORCH_RNG_LOCK, torch.random.fork_rng(devices=devices):
         torch.manual_seed(seed)
         yield
+
+
+def resolve_device(device):
+    """Map ``"auto"`` to ``"cuda"`` when a GPU is available, else ``"cpu"``."""
+    if isinstance(device, str) and device == "auto":
+        return "cuda" if torch.cuda.is_available() else "cpu"
+    return device
