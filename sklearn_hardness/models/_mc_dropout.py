@@ -28,7 +28,6 @@ from skorch import NeuralNetClassifier
 from skorch.callbacks import Callback
 from skorch.dataset import Dataset
 from sklearn.exceptions import NotFittedError
-from sklearn.utils import check_random_state
 from sklearn.utils._param_validation import (
     Interval,
     InvalidParameterError,
@@ -40,6 +39,7 @@ from sklearn.utils.class_weight import compute_class_weight
 from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_consistent_length, column_or_1d
 
+from ..utils._random import draw_seeds
 from ..utils._torch import resolve_device, seeded_torch_rng
 from ._mc_sampling import MC_MEMORY_BUDGET, MCDropout, dropout_generator, sample_proba, softmax
 from ._persistence import NetPersistenceMixin
@@ -193,8 +193,7 @@ class MCDropoutClassifierBase(NetPersistenceMixin, NeuralNetClassifier):
             self.shuffle_generator_ = None
             self.dropout_generator_ = None
         else:
-            rs = check_random_state(self.random_state)
-            init_seed, shuffle_seed, dropout_seed = (int(s) for s in rs.randint(0, 2**31 - 1, size=3))
+            init_seed, shuffle_seed, dropout_seed = draw_seeds(self.random_state, 3)
             self.init_seed_ = init_seed
             self.shuffle_generator_ = torch.Generator().manual_seed(shuffle_seed)
             self.dropout_generator_ = torch.Generator(device=torch.device(self.device)).manual_seed(
@@ -512,7 +511,7 @@ class MCDropoutClassifierBase(NetPersistenceMixin, NeuralNetClassifier):
             rows = max(1, int(budget // max(1, self._mc_bytes_per_row(X))))
         else:
             rows = int(batch_size)
-        seed = int(check_random_state(random_state).randint(0, 2**31 - 1))
+        (seed,) = draw_seeds(random_state, 1)
         out = sample_proba(
             self.module_, X, n_samples=n_samples, seed=seed, rows_per_call=rows, device=device,
             nonlinearity=self._get_predict_nonlinearity(), n_classes=len(self.classes_),
