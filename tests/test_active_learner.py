@@ -298,6 +298,11 @@ def test_concat_rows_keeps_lazy_videos_lazy():
     assert isinstance(_concat_rows(videos[[0]], other), LazyVideoSequence)
     mixed = _concat_rows(videos[[0]], [np.zeros((3, 4, 4, 3), np.uint8)])
     assert isinstance(mixed, list) and len(mixed) == 2
+    # the public method behind it refuses what it cannot keep lazy
+    with pytest.raises(ValueError, match="same loader"):
+        videos.concatenate(LazyVideoSequence(lambda k: loader(k), [1]))
+    with pytest.raises(ValueError, match="same loader"):
+        videos.concatenate([np.zeros((3, 4, 4, 3), np.uint8)])
 
 
 class ForestMC(BaseEstimator):

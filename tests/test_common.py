@@ -22,23 +22,23 @@ Three families of checks run:
    n_jobs invariance, sample-order invariance, input left unchanged, tags
    matching the input. They run on every estimator with its own input.
 
-Expected failures of family 3 are strict: once an estimator is fixed the
-test reports XPASS as a failure, so the table cannot silently go stale.
+The video checks are public (:mod:`sklearn_hardness.utils.estimator_checks`),
+so users of our estimators can run them on theirs. Expected failures of
+family 3 are strict: once an estimator is fixed the test reports XPASS as a
+failure, so the table cannot silently go stale.
 """
 
 from __future__ import annotations
 
 import importlib
 import inspect
-import pickle
 import warnings
 
 import numpy as np
 import pytest
 import torch
-from sklearn.base import BaseEstimator, clone
+from sklearn.base import BaseEstimator
 from sklearn.datasets import make_blobs
-from sklearn.exceptions import NotFittedError
 from sklearn.utils import get_tags
 from sklearn.utils import estimator_checks as ec
 
@@ -53,6 +53,7 @@ from sklearn_hardness.models import (
     OFNNClassifier,
 )
 from sklearn_hardness.preprocessing import ContactFrameSelector
+from sklearn_hardness.utils.estimator_checks import parametrize_with_video_checks
 
 from ._synthetic import synthetic_press
 
@@ -103,73 +104,13 @@ NOT_CHECKED = {
 }
 
 # ------------------------------------------------------------------ table 2
-_TAGS_SAY_2D = (
-    "its __sklearn_tags__ claim 2-D input (input_tags.two_d_array=True) but X is {input}; "
-    "scikit-learn's 2-D data checks get a clear 'X must be ...' error. Fix: two_d_array=False "
-    "in its tags ({owner}); the video versions of these checks run below"
-)
-# scikit-learn's data checks an estimator with 5-D/video input fails when its tags say 2-D
-_CHECKS_ON_2D_DATA = [
-    "check_fit_score_takes_y",
-    "check_estimators_overwrite_params",
-    "check_dont_overwrite_parameters",
-    "check_estimators_fit_returns_self",
-    "check_readonly_memmap_input",
-    "check_n_features_in_after_fitting",
-    "check_positive_only_tag_during_fit",
-    "check_estimators_dtypes",
-    "check_complex_data",
-    "check_dtype_object",
-    "check_estimators_empty_data_messages",
-    "check_pipeline_consistency",
-    "check_estimators_nan_inf",
-    "check_estimator_sparse_tag",
-    "check_estimator_sparse_array",
-    "check_estimator_sparse_matrix",
-    "check_estimators_pickle",
-    "check_f_contiguous_array_estimator",
-    "check_transformer_data_not_an_array",
-    "check_transformer_general",
-    "check_transformer_preserve_dtypes",
-    "check_classifier_data_not_an_array",
-    "check_classifiers_one_label_sample_weights",
-    "check_classifiers_classes",
-    "check_estimators_partial_fit_n_features",
-    "check_classifiers_train",
-    "check_supervised_y_2d",
-    "check_methods_sample_order_invariance",
-    "check_methods_subset_invariance",
-    "check_fit2d_1sample",
-    "check_fit2d_1feature",
-    "check_dict_unchanged",
-    "check_fit_idempotent",
-    "check_fit_check_is_fitted",
-    "check_n_features_in",
-    "check_fit2d_predict1d",
-]
-
-
-def _on_2d_data(input_, owner, passing=()):
-    reason = _TAGS_SAY_2D.format(input=input_, owner=owner)
-    return {name: reason for name in _CHECKS_ON_2D_DATA if name not in passing}
-
-
 _SKORCH_INIT = (
     "skorch's NeuralNet.__init__ sets history_, initialized_, virtual_params_ (skorch design, "
     "not ours to change)"
 )
 _NET_2D_MESSAGES = {
     "check_no_attributes_set_in_init": _SKORCH_INIT,
-    "check_n_features_in_after_fitting": (
-        "the n_features mismatch message says 'was fitted with', sklearn expects 'is expecting'"
-    ),
-    "check_classifier_data_not_an_array": "the 2-D shape test calls np.ndim on an array-like before check_array",
-    "check_classifiers_regression_target": "a continuous y is not rejected with 'Unknown label type'",
-    "check_supervised_y_2d": "a column-vector y gives no DataConversionWarning",
-    "check_fit2d_1sample": "the one-sample error says 'needs at least 2 classes' (sklearn wants '1 class')",
     "check_set_params": "skorch's set_params fails on the check's arbitrary values ('float' has no 'add')",
-    "check_fit2d_predict1d": "the 1-D input error does not say 'Reshape your data'",
-    "check_requires_y_none": "fit(X, None) fails inside skorch without saying 'requires y to be passed'",
 }
 _LEARNER_INT_LABELS = (
     "without classes=, integer labels are class indices 0..K-1 and every class must be in the "
@@ -177,60 +118,15 @@ _LEARNER_INT_LABELS = (
 )
 
 EXPECTED_FAILED_CHECKS = {
-    "ContactFrameSelector": {
-        **_on_2d_data(
-            "a sequence of videos",
-            "preprocessing, sensors branch",
-            # its own input check rejects complex and sparse X with the words sklearn looks for
-            passing=(
-                "check_complex_data",
-                "check_estimator_sparse_tag",
-                "check_estimator_sparse_array",
-                "check_estimator_sparse_matrix",
-            ),
-        ),
-        "check_tags_match_input": _TAGS_SAY_2D.format(
-            input="a sequence of videos", owner="preprocessing, sensors branch"
-        ),
-    },
-    "FrameScaler": {
-        **_on_2d_data("selected frames (n, k, H, W, C)", "models branch"),
-        "check_tags_match_input": _TAGS_SAY_2D.format(
-            input="selected frames (n, k, H, W, C)", owner="models branch"
-        ),
-    },
     "ConvLSTMClassifier": {
-        **_on_2d_data("selected frames (n, k, H, W, C)", "models branch"),
-        "check_tags_match_input": _TAGS_SAY_2D.format(
-            input="selected frames (n, k, H, W, C)", owner="models branch"
-        ),
         "check_no_attributes_set_in_init": _SKORCH_INIT,
-        "check_classifiers_one_label": "one-label y fails in the frames check before the label check",
-        "check_classifiers_regression_target": _NET_2D_MESSAGES["check_classifiers_regression_target"],
         "check_set_params": _NET_2D_MESSAGES["check_set_params"],
-        "check_requires_y_none": _NET_2D_MESSAGES["check_requires_y_none"],
-        "check_class_weight_classifiers": _TAGS_SAY_2D.format(
-            input="selected frames (n, k, H, W, C)", owner="models branch"
-        ),
     },
     "OFNNClassifier": {
         **_NET_2D_MESSAGES,
     },
     "DINOv2NNClassifier": {
         **_NET_2D_MESSAGES,
-    },
-    "EnsembleClassifier": {
-        name: "fit and predict pass X and y to its OFNN members unchanged, so it fails as they do: "
-        + _NET_2D_MESSAGES[name]
-        for name in (
-            "check_n_features_in_after_fitting",
-            "check_classifier_data_not_an_array",
-            "check_classifiers_regression_target",
-            "check_supervised_y_2d",
-            "check_fit2d_1sample",
-            "check_fit2d_predict1d",
-            "check_requires_y_none",
-        )
     },
     "ActiveLearner": {
         "check_n_features_in_after_fitting": "does not set n_features_in_ (delegates to its estimator)",
@@ -240,10 +136,8 @@ EXPECTED_FAILED_CHECKS = {
         "check_fit2d_1sample": _LEARNER_INT_LABELS,
         "check_fit2d_1feature": _LEARNER_INT_LABELS,
         "check_classifier_data_not_an_array": "rejects sklearn's _NotAnArray wrapper ('X must be an array or a sequence')",
-        "check_classifiers_regression_target": "a continuous y is not rejected with 'Unknown label type'",
         "check_supervised_y_2d": "a column-vector y is an error ('y must be 1-D'), not a DataConversionWarning",
-        "check_fit2d_predict1d": _NET_2D_MESSAGES["check_fit2d_predict1d"],
-        "check_requires_y_none": _NET_2D_MESSAGES["check_requires_y_none"],
+        "check_requires_y_none": "fit(X, None) fails without saying 'requires y to be passed'",
     },
 }
 
@@ -356,124 +250,21 @@ def _data(name, seed=0):
     return _DATA[ESTIMATORS[name][1]](seed=seed)
 
 
-_OUTPUT_METHODS = ("transform", "predict", "predict_proba")
-
-
-def _output(estimator, X, method=None):
-    method = method or ("transform" if hasattr(estimator, "transform") else "predict_proba")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)  # padding/contact warnings on tiny inputs
-        return np.asarray(getattr(estimator, method)(X))
-
-
-def _fit(estimator, X, y):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)
-        return estimator.fit(X, y)
-
-
-def _copy_input(X):
-    return [np.array(v, copy=True) for v in X] if isinstance(X, list) else np.array(X, copy=True)
-
-
-def _assert_same_input(X, X_before):
-    if isinstance(X, list):
-        assert len(X) == len(X_before)
-        for a, b in zip(X, X_before):
-            np.testing.assert_array_equal(a, b)
-    else:
-        np.testing.assert_array_equal(X, X_before)
-
-
-def _take(X, idx):
-    return [X[i] for i in idx] if isinstance(X, list) else X[idx]
-
-
-def check_video_unfitted_raises(name, estimator, X, y):
-    """Every output method before fit raises NotFittedError."""
-    for method in _OUTPUT_METHODS:
-        if hasattr(estimator, method):
-            with pytest.raises(NotFittedError):
-                _output(estimator, X, method)
-
-
-def check_video_pickle(name, estimator, X, y):
-    """A fitted estimator pickles and gives the same output after loading."""
-    _fit(estimator, X, y)
-    expected = _output(estimator, X)
-    loaded = pickle.loads(pickle.dumps(estimator))
-    np.testing.assert_allclose(_output(loaded, X), expected, rtol=1e-6, atol=1e-6)
-
-
-def check_video_refit_idempotent(name, estimator, X, y):
-    """fit(A); fit(B); fit(A) gives the output of the first fit(A)."""
-    _fit(estimator, X, y)
-    first = _output(estimator, X)
-    X_other, y_other = _data(name, seed=1)
-    _fit(estimator, X_other, y_other)
-    _fit(estimator, X, y)
-    np.testing.assert_allclose(_output(estimator, X), first, rtol=1e-5, atol=1e-6)
-
-
-def check_video_clone_is_unfitted(name, estimator, X, y):
-    """clone of a fitted estimator has its parameters and none of its fitted state."""
-    _fit(estimator, X, y)
-    cloned = clone(estimator)
-    assert set(cloned.get_params(deep=False)) == set(estimator.get_params(deep=False))
-    check_video_unfitted_raises(name, cloned, X, y)
-
-
-def check_video_n_jobs_invariance(name, estimator, X, y):
-    """n_jobs=2 gives exactly the output of n_jobs=1."""
-    if "n_jobs" not in estimator.get_params():
-        return
-    one = _output(_fit(clone(estimator).set_params(n_jobs=1), X, y), X)
-    two = _output(_fit(clone(estimator).set_params(n_jobs=2), X, y), X)
-    np.testing.assert_array_equal(two, one)
-
-
-def check_video_sample_order_invariance(name, estimator, X, y):
-    """The output of a permuted input is the permuted output."""
-    _fit(estimator, X, y)
-    perm = np.random.default_rng(0).permutation(len(X))
-    np.testing.assert_allclose(_output(estimator, _take(X, perm)), _output(estimator, X)[perm], rtol=1e-5, atol=1e-6)
-
-
-def check_video_input_unchanged(name, estimator, X, y):
-    """fit and the output methods leave X untouched."""
-    before = _copy_input(X)
-    _fit(estimator, X, y)
-    _output(estimator, X)
-    _assert_same_input(X, before)
-
-
-def check_tags_match_input(name, estimator, X, y):
-    """The tags say 2-D input exactly when the estimator takes a 2-D table."""
-    takes_table = ESTIMATORS[name][1] == "table"
-    assert get_tags(estimator).input_tags.two_d_array == takes_table
-
-
-VIDEO_CHECKS = [
-    check_video_unfitted_raises,
-    check_video_pickle,
-    check_video_refit_idempotent,
-    check_video_clone_is_unfitted,
-    check_video_n_jobs_invariance,
-    check_video_sample_order_invariance,
-    check_video_input_unchanged,
-    check_tags_match_input,
-]
-
-
 def _mark_expected_failure(request, name, check_name):
     reason = EXPECTED_FAILED_CHECKS.get(name, {}).get(check_name)
     if reason is not None:
         request.applymarker(pytest.mark.xfail(reason=reason, strict=True))
 
 
-@pytest.mark.parametrize("check", VIDEO_CHECKS, ids=lambda c: c.__name__)
-@pytest.mark.parametrize("name", list(ESTIMATORS))
-def test_video_checks(name, check, request):
-    _mark_expected_failure(request, name, check.__name__)
-    X, y = _data(name)
-    check(name, _build(name), X, y)
+@parametrize_with_video_checks(
+    {name: (ESTIMATORS[name][0], lambda name=name: _data(name)) for name in ESTIMATORS},
+    expected_failed_checks=lambda name: EXPECTED_FAILED_CHECKS.get(name, {}),
+)
+def test_video_checks(name, factory, data, check):
+    check(name, factory(), *data())
+
+
+def test_tags_match_the_input_table():
+    """The ESTIMATORS table's input kinds and the estimators' own tags agree."""
+    for name, (factory, kind) in ESTIMATORS.items():
+        assert get_tags(factory()).input_tags.two_d_array == (kind == "table"), name

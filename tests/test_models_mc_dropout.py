@@ -186,7 +186,7 @@ def test_pickle_holds_no_torch_generator_and_training_continues_alike(case):
 
 
 def test_generator_saved_on_another_device_type_is_reseeded():
-    from sklearn_hardness.models._mc_dropout import _SavedGenerator
+    from sklearn_hardness.models._persistence import SavedGenerator as _SavedGenerator
 
     saved = _SavedGenerator("cuda", 7, torch.Generator().manual_seed(3).get_state())
     gen = pickle.loads(pickle.dumps(saved)).restore(torch.device("cpu"))

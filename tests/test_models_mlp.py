@@ -77,8 +77,8 @@ def test_replicated_forward_runs_head_only_once_per_input(fitted):
     "X_bad, match",
     [
         (np.zeros((4, 2, 8, 10, 3), np.float32), "2-D array of features"),
-        (np.zeros(6, np.float32), "2-D array of features"),
-        (np.zeros((4, 5), np.float32), "5 features.*fitted with 6"),
+        (np.zeros(6, np.float32), "(?s)Expected 2D array.*Reshape your data"),
+        (np.zeros((4, 5), np.float32), "5 features.*expecting 6 features"),
         (np.full((4, 6), np.nan, np.float32), "NaN"),
         (np.full((4, 6), np.inf, np.float32), "infinity"),
     ],

@@ -7,6 +7,9 @@ import inspect
 from numbers import Integral, Real
 
 import numpy as np
+import scipy.sparse as sp
+import torch
+from skorch import NeuralNet
 from sklearn.base import (
     BaseEstimator,
     ClassifierMixin,
@@ -26,25 +29,22 @@ from sklearn.utils._param_validation import (
 )
 from sklearn.utils.validation import check_is_fitted
 
-from ._strategies import STRATEGY_NAMES, get_strategy, variance_sampling
+from ..datasets import LazyVideoSequence
+from ..models import EnsembleClassifier, MCDropoutClassifierBase
 from ..utils._random import int_seed
+from ..utils._torch import seeded_torch_rng
+from ._strategies import STRATEGY_NAMES, get_strategy, variance_sampling
 from ._uncertainty import UNCERTAINTY_KINDS, class_uncertainty, variance_decomposition
 
 __all__ = ["ActiveLearner"]
 
 
 def _is_skorch_net(est):
-    try:
-        from skorch import NeuralNet
-    except ImportError:  # pragma: no cover - skorch is a dependency
-        return False
     return isinstance(est, NeuralNet)
 
 
 def _trains_in_epochs(est):
     """A skorch net, or an ensemble of them: trained with partial_fit(..., epochs=) (warm start)."""
-    from ..models import EnsembleClassifier
-
     if isinstance(est, EnsembleClassifier):
         return _is_skorch_net(est.estimator)
     return _is_skorch_net(est)
@@ -60,21 +60,15 @@ def _concat_rows(a, b):
             )
         return np.concatenate([a, b], axis=0)
     if hasattr(a, "detach") and hasattr(b, "detach"):  # torch tensors
-        import torch
-
         return torch.cat([a, b], dim=0)
-    import scipy.sparse as sp
-
     if sp.issparse(a) or sp.issparse(b):
         return sp.vstack([a, b], format="csr")
-    from ..datasets import LazyVideoSequence
-
     if (
         isinstance(a, LazyVideoSequence)
         and isinstance(b, LazyVideoSequence)
         and a.loader is b.loader
     ):  # stay lazy: only the keys are concatenated
-        return a._subset(list(a.keys) + list(b.keys))
+        return a.concatenate(b)
     # other sequences of videos: a list of the (loaded) items
     return [a[i] for i in range(len(a))] + [b[i] for i in range(len(b))]
 
@@ -371,10 +365,6 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         if self.random_state is None:
             yield
             return
-        import torch
-
-        from ..models._mc_dropout import _GLOBAL_RNG_LOCK, MCDropoutClassifierBase
-
         seed = int_seed(self._rng)
         final = self._final()
         if isinstance(final, MCDropoutClassifierBase) and final.random_state is not None:
@@ -384,8 +374,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             return
         # other torch code draws from the global generator: seed it, and hold the
         # lock so that runs in other threads cannot reseed it meanwhile
-        with _GLOBAL_RNG_LOCK, torch.random.fork_rng(devices=[]):
-            torch.manual_seed(seed)
+        with seeded_torch_rng(seed):
             yield
 
     def _train(self, Xt, y, epochs):

@@ -117,6 +117,27 @@ class LazyVideoSequence(Sequence):
     def _subset(self, keys):
         return type(self)(self.loader, keys, cache_size=self.cache_size)
 
+    def concatenate(self, other):
+        """The videos of ``self`` followed by those of ``other``, still lazy.
+
+        Parameters
+        ----------
+        other : LazyVideoSequence
+            A sequence with the same ``loader`` (e.g. two subsets of one
+            dataset).
+
+        Returns
+        -------
+        videos : LazyVideoSequence
+            Only the keys are concatenated; nothing is loaded.
+        """
+        if not isinstance(other, LazyVideoSequence) or other.loader is not self.loader:
+            raise ValueError(
+                "concatenate needs a LazyVideoSequence with the same loader; got "
+                f"{type(other).__name__}. Concatenate loaded videos as lists instead."
+            )
+        return self._subset(list(self.keys) + list(other.keys))
+
     def __iter__(self):
         for key in self.keys:
             yield self._load(key)

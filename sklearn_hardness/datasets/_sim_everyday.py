@@ -47,6 +47,7 @@ import tempfile
 import cv2
 import numpy as np
 
+from ..io import read_video, write_video
 from ._sim_mechanics import simulate_press
 from ._sim_optics import SensorOptics
 
@@ -346,8 +347,6 @@ def check_codec(codec):
 
 def apply_codec(video, codec, fps):
     """Pass ``video`` through a real lossy codec (write a temporary file, read it back)."""
-    from ..io import read_video, write_video
-
     fourcc = codec.upper() if codec == "mjpg" else codec
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "press" + _CODEC_EXT[codec])

@@ -376,6 +376,12 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=None, image_si
     if preset == "everyday":
         return _make_everyday(params, n_per_class, bool(markers), image_size, shuffle,
                               return_mechanics, codec, ss)
+    return _make_flat(preset, params, n_per_class, bool(markers), image_size, shuffle, return_mechanics,
+                      codec, ss)
+
+
+def _make_flat(preset, params, n_per_class, markers, image_size, shuffle, return_mechanics, codec, ss):
+    """``make_presses`` for the flat presets (one object per class): sensors, casts, presses, renderer."""
     hardness = params["hardness"]
     n_classes = len(hardness)
     n = n_classes * n_per_class
@@ -405,32 +411,11 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=None, image_si
     mechanics, centers, render_seeds = [], [], []
     for i, (cls, press_ss) in enumerate(zip(target, ss_press.spawn(n))):
         mech_ss, render_ss = press_ss.spawn(2)
-        rng = np.random.default_rng(mech_ss)
-        s = int(rng.integers(n_sensors))
-        c_obj = cast[cls] * np.exp(params["press_spread"] * rng.standard_normal())
-        f_push = rng.uniform(*params["force_range"])
-        v_push = rng.uniform(*params["speed_range"])
-        lag = rng.uniform(*params["force_lag_range"])
-        hold = rng.uniform(*params["hold_range"])
-        ret = rng.uniform(*params["retreat_speed_ratio"])
-        n_before = int(rng.integers(params["frames_before_range"][0], params["frames_before_range"][1] + 1))
-        n_after = int(rng.integers(params["frames_after_range"][0], params["frames_after_range"][1] + 1))
-        offset = rng.normal(0.0, params["contact_offset"], 2) if params["contact_offset"] > 0 else np.zeros(2)
-        frames, summary = simulate_press(
-            rng, c_gel=gel_c[s], c_obj=c_obj, dome_radius=dome_r[s], m=params["hertz_exponent"],
-            c_drive=params["drive_compliance"], f_push=f_push, v_push=v_push,
-            unevenness=params["speed_unevenness"], force_lag=lag, deceleration=params["deceleration"],
-            hold=hold, retreat_ratio=ret, fps=params["fps"], n_before=n_before, n_after=n_after,
-            timestamp_jitter=params["timestamp_jitter"], force_noise=params["force_noise"],
-            lateral_gain_object=params["lateral_gain_object"],
-            lateral_gain_gel=params["lateral_gain_gel"],
-        )
+        frames, offset, row = _sample_press(np.random.default_rng(mech_ss), params, cast[cls], gel_c,
+                                            dome_r)
         mechanics.append(frames)
-        centers.append((float(offset[0]), float(offset[1])))
+        centers.append(offset)
         render_seeds.append(_seed_int(render_ss))
-        row = dict(F_push=f_push, v_push=v_push, force_lag=lag, hold=hold, retreat_speed=ret * v_push,
-                   compliance_object=c_obj, compliance_gel=gel_c[s], dome_radius=dome_r[s], sensor=s,
-                   offset_x=offset[0], offset_y=offset[1], n_before=n_before, n_after=n_after, **summary)
         for k in keys:
             pp[k][i] = row[k]
     for k in ("sensor", "n_before", "n_after"):
@@ -459,6 +444,34 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=None, image_si
     if return_mechanics:
         data.mechanics = [{k: v.copy() for k, v in m.items() if k != "force"} for m in mechanics]
     return data
+
+
+def _sample_press(rng, params, cast_compliance, gel_c, dome_r):
+    """One robot or hand press of an object cast: its mechanics, contact offset and parameters."""
+    n_sensors = len(gel_c)
+    s = int(rng.integers(n_sensors))
+    c_obj = cast_compliance * np.exp(params["press_spread"] * rng.standard_normal())
+    f_push = rng.uniform(*params["force_range"])
+    v_push = rng.uniform(*params["speed_range"])
+    lag = rng.uniform(*params["force_lag_range"])
+    hold = rng.uniform(*params["hold_range"])
+    ret = rng.uniform(*params["retreat_speed_ratio"])
+    n_before = int(rng.integers(params["frames_before_range"][0], params["frames_before_range"][1] + 1))
+    n_after = int(rng.integers(params["frames_after_range"][0], params["frames_after_range"][1] + 1))
+    offset = rng.normal(0.0, params["contact_offset"], 2) if params["contact_offset"] > 0 else np.zeros(2)
+    frames, summary = simulate_press(
+        rng, c_gel=gel_c[s], c_obj=c_obj, dome_radius=dome_r[s], m=params["hertz_exponent"],
+        c_drive=params["drive_compliance"], f_push=f_push, v_push=v_push,
+        unevenness=params["speed_unevenness"], force_lag=lag, deceleration=params["deceleration"],
+        hold=hold, retreat_ratio=ret, fps=params["fps"], n_before=n_before, n_after=n_after,
+        timestamp_jitter=params["timestamp_jitter"], force_noise=params["force_noise"],
+        lateral_gain_object=params["lateral_gain_object"],
+        lateral_gain_gel=params["lateral_gain_gel"],
+    )
+    row = dict(F_push=f_push, v_push=v_push, force_lag=lag, hold=hold, retreat_speed=ret * v_push,
+               compliance_object=c_obj, compliance_gel=gel_c[s], dome_radius=dome_r[s], sensor=s,
+               offset_x=offset[0], offset_y=offset[1], n_before=n_before, n_after=n_after, **summary)
+    return frames, (float(offset[0]), float(offset[1])), row
 
 
 class _CodecSimulation:

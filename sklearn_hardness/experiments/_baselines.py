@@ -7,8 +7,12 @@ import warnings
 
 import numpy as np
 
+from ..metrics import hardness_mae
+from ..models import is_converged
+from ..utils._random import derived_seeds
 from ._config import check_config, config_hash, get_config
 from ._data import describe_model, make_estimator, prepare_inputs
+from ._evaluate import _named_pipeline, evaluate_pipelines
 from ._results import ExperimentResult, ResultsStore
 from ._runner import run_tasks
 
@@ -17,11 +21,7 @@ __all__ = ["run_model_baselines", "run_dropout_sweep"]
 
 def _fit_eval_run(X, y, hardness, cfg, model, n_classes, n_train, n_test, seed, key, dropout=None):
     """Train on n_train presses per class for e0 epochs, test on n_test others per class."""
-    from ..metrics import hardness_mae
-    from ..models import is_converged
-
-    ss = np.random.SeedSequence([int(seed), 777])
-    split_seed, model_seed = (int(s) for s in ss.generate_state(2) % (2**31 - 1))
+    split_seed, model_seed = derived_seeds([seed, 777], 2)
     rng = np.random.default_rng(split_seed)
     train, test = [], []
     for c in range(n_classes):
@@ -127,14 +127,10 @@ def run_model_baselines(
         ``cv``: the Bunch of :func:`evaluate_pipelines`.
     """
     if cv is not None:
-        from ._evaluate import evaluate_pipelines
-
         if isinstance(models, str):
             models = (models,)
         pipes = {m: m for m in models} if all(isinstance(m, str) for m in models) else None
         if pipes is not None:
-            from ._evaluate import _named_pipeline
-
             pipes = {m: _named_pipeline(m) for m in models}
         else:
             pipes = {str(n): e for n, e in models}

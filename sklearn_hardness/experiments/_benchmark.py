@@ -6,6 +6,12 @@ import resource
 import sys
 import time
 
+import torch
+
+from ._active import run_active_sampling
+from ._config import check_config, get_config
+from ._data import prepare_inputs
+
 __all__ = ["time_active_sampling_run"]
 
 
@@ -29,12 +35,6 @@ def time_active_sampling_run(preset="silicone5", *, model=None, strategy="varian
         ``peak_rss_mib`` (of this process, after the run), ``config`` and
         ``record`` (the run's record).
     """
-    import torch
-
-    from ._active import run_active_sampling
-    from ._config import check_config, get_config
-    from ._data import prepare_inputs
-
     old = torch.get_num_threads()
     if n_threads is not None:
         torch.set_num_threads(n_threads)

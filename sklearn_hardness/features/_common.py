@@ -1,27 +1,10 @@
-"""Helpers shared by the feature transformers: tags and per-sample intensity scaling."""
+"""Helpers shared by the feature transformers: per-sample intensity scaling."""
 
 from __future__ import annotations
 
 import numpy as np
 
 _GREY_WEIGHTS = np.array([0.299, 0.587, 0.114], dtype=np.float32)  # ITU-R BT.601, RGB order
-
-
-def frames_tags(tags):
-    """Tags of a transformer taking selected frames (n, k, H, W, C).
-
-    The input is 5-D, not a 2-D table, so ``input_tags.two_d_array`` is
-    False: scikit-learn's common checks that feed 2-D data do not apply
-    (``tests/test_common.py`` runs the data-independent ones and
-    equivalents on 5-D data).
-    The output is float32 whatever the input dtype.
-    """
-    tags.input_tags.two_d_array = False
-    tags.input_tags.three_d_array = False
-    tags.input_tags.allow_nan = False
-    if tags.transformer_tags is not None:
-        tags.transformer_tags.preserves_dtype = ["float32"]
-    return tags
 
 
 def sample_range(X, value_range):

@@ -11,6 +11,7 @@ from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
 from sklearn.utils._param_validation import Interval
 from sklearn.utils.validation import check_is_fitted
 
+from ..utils._tags import videos_tags
 from ..utils._validation import check_video, check_video_sequence
 
 __all__ = ["ContactProfileFeatures"]
@@ -188,7 +189,4 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         return np.array(_NAMES, dtype=object)
 
     def __sklearn_tags__(self):
-        tags = super().__sklearn_tags__()
-        tags.input_tags.two_d_array = False
-        tags.requires_fit = True
-        return tags
+        return videos_tags(super().__sklearn_tags__())

@@ -16,7 +16,8 @@ from sklearn.utils.validation import check_is_fitted
 
 from ..utils._param_validation import Pair, ValueRange
 from ..utils._validation import check_frames_array
-from ._common import frames_tags, sample_range
+from ..utils._tags import frames_tags
+from ._common import sample_range
 
 __all__ = ["DINOv2Features"]
 

@@ -15,7 +15,8 @@ from sklearn.utils.validation import check_is_fitted
 
 from ..utils._param_validation import Pair, ValueRange
 from ..utils._validation import check_frames_array
-from ._common import frames_tags, to_uint8_grey
+from ..utils._tags import frames_tags
+from ._common import to_uint8_grey
 
 __all__ = ["OpticalFlowFeatures"]
 

@@ -8,6 +8,7 @@ import numpy as np
 import torch
 from sklearn.utils._param_validation import Interval, StrOptions
 
+from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
 from ._mc_dropout import MCDropoutClassifierBase
 from ._mc_sampling import MCDropout
@@ -441,3 +442,6 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         # per layer: input sequence + projected input (4h) + output sequence (h)
         per_step = max(chans[i] + 5 * chans[i + 1] for i in range(len(chans) - 1))
         return 4 * k * H * W * per_step
+
+    def __sklearn_tags__(self):
+        return frames_tags(super().__sklearn_tags__())

@@ -7,11 +7,10 @@ import numbers
 import numpy as np
 from joblib import Parallel, delayed
 from sklearn.base import BaseEstimator, ClassifierMixin, _fit_context, clone
-from sklearn.utils import check_random_state
 from sklearn.utils._param_validation import HasMethods, Interval, validate_parameter_constraints
 from sklearn.utils.validation import check_is_fitted
 
-from ..utils._random import set_random_states
+from ..utils._random import draw_seeds, set_random_states
 
 __all__ = ["EnsembleClassifier"]
 
@@ -96,8 +95,7 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
         self.n_jobs = n_jobs
 
     def _new_members(self):
-        rs = check_random_state(self.random_state)
-        self.seeds_ = rs.randint(0, 2**31 - 1, size=self.n_estimators)
+        self.seeds_ = np.array(draw_seeds(self.random_state, self.n_estimators))
         return [set_random_states(clone(self.estimator), s) for s in self.seeds_]
 
     def _set_classes(self):

@@ -9,7 +9,7 @@ from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
 from sklearn.utils._param_validation import Interval
 from sklearn.utils.validation import check_is_fitted
 
-from ..features._common import frames_tags
+from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
 
 __all__ = ["IntensityChannels"]

@@ -28,7 +28,6 @@ from skorch import NeuralNetClassifier
 from skorch.callbacks import Callback
 from skorch.dataset import Dataset
 from sklearn.exceptions import NotFittedError
-from sklearn.utils import check_random_state
 from sklearn.utils._param_validation import (
     Interval,
     InvalidParameterError,
@@ -37,20 +36,15 @@ from sklearn.utils._param_validation import (
     validate_parameter_constraints,
 )
 from sklearn.utils.class_weight import compute_class_weight
+from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_consistent_length, column_or_1d
 
-from ._mc_sampling import _GLOBAL_RNG_LOCK, MC_MEMORY_BUDGET, MCDropout, dropout_generator, sample_proba, softmax
+from ..utils._random import draw_seeds
+from ..utils._torch import resolve_device, seeded_torch_rng
+from ._mc_sampling import MC_MEMORY_BUDGET, MCDropout, dropout_generator, sample_proba, softmax
+from ._persistence import NetPersistenceMixin
 
 __all__ = ["MCDropout", "MCDropoutClassifierBase"]
-
-# _GLOBAL_RNG_LOCK stays importable from here: active/_learner.py uses it.
-
-
-def resolve_device(device):
-    """Map ``"auto"`` to ``"cuda"`` when a GPU is available, else ``"cpu"``."""
-    if isinstance(device, str) and device == "auto":
-        return "cuda" if torch.cuda.is_available() else "cpu"
-    return device
 
 
 class _TrainingDataSetter(Callback):
@@ -64,24 +58,7 @@ class _TrainingDataSetter(Callback):
         net._prepare_training(X, y)
 
 
-class _SavedGenerator(tuple):
-    """A pickled torch.Generator: device type, initial seed, state (a CPU byte tensor)."""
-
-    def __new__(cls, device_type, seed, gen_state):
-        return super().__new__(cls, (device_type, seed, gen_state))
-
-    def __getnewargs__(self):
-        return tuple(self)
-
-    def restore(self, device):
-        device_type, seed, gen_state = self
-        gen = torch.Generator(device=device).manual_seed(seed)
-        if device.type == device_type:
-            gen.set_state(gen_state)  # same kind of device: continue exactly where it stopped
-        return gen
-
-
-class MCDropoutClassifierBase(NeuralNetClassifier):
+class MCDropoutClassifierBase(NetPersistenceMixin, NeuralNetClassifier):
     """Base class of the MC-dropout classifiers (not for direct use).
 
     Subclasses define ``_check_X(X, reset)`` (validate input, remember its
@@ -169,33 +146,6 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             params["device"] = self.__dict__["device"]
         return params
 
-    # The seeded generators are saved as (device type, seed, state) rather than as
-    # torch.Generator objects: a CUDA generator cannot be unpickled where torch has no
-    # CUDA, so a net trained on a GPU could not be loaded on a CPU-only machine.
-    _generator_attrs = ("shuffle_generator_", "dropout_generator_")
-
-    def __getstate__(self):
-        state = super().__getstate__()
-        for name in self._generator_attrs:
-            gen = state.get(name)
-            if isinstance(gen, torch.Generator):
-                state[name] = _SavedGenerator(gen.device.type, int(gen.initial_seed()), gen.get_state())
-        return state
-
-    def __setstate__(self, state):
-        raw = state.get("device")
-        state["device"] = resolve_device(raw)
-        super().__setstate__(state)
-        if raw == "auto":
-            self.__dict__["device"] = raw
-        for name in self._generator_attrs:
-            saved = self.__dict__.get(name)
-            if isinstance(saved, _SavedGenerator):
-                # the shuffling generator is always a CPU one; the dropout masks' lives on the
-                # net's device, which skorch has just mapped to the CPU if CUDA is missing here
-                device = torch.device("cpu") if name == "shuffle_generator_" else torch.device(self.device)
-                self.__dict__[name] = saved.restore(device)
-
     def set_params(self, **kwargs):
         # scikit-learn convention: set_params stores and never raises; a bad value is
         # reported by the next fit / predict_proba_samples (_check_dropout).
@@ -243,8 +193,7 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             self.shuffle_generator_ = None
             self.dropout_generator_ = None
         else:
-            rs = check_random_state(self.random_state)
-            init_seed, shuffle_seed, dropout_seed = (int(s) for s in rs.randint(0, 2**31 - 1, size=3))
+            init_seed, shuffle_seed, dropout_seed = draw_seeds(self.random_state, 3)
             self.init_seed_ = init_seed
             self.shuffle_generator_ = torch.Generator().manual_seed(shuffle_seed)
             self.dropout_generator_ = torch.Generator(device=torch.device(self.device)).manual_seed(
@@ -269,8 +218,7 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
         if seed is None:
             module = module_cls(**kwargs)
         else:
-            with _GLOBAL_RNG_LOCK, torch.random.fork_rng(devices=[]):
-                torch.manual_seed(seed)
+            with seeded_torch_rng(seed):
                 module = module_cls(**kwargs)
         self.module_ = module.to(self.device)
         return self
@@ -296,7 +244,8 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
         """Validate training data; on a cold start size the net from it."""
         cold = not self._has_input_meta()
         if y is None:
-            raise ValueError(f"{type(self).__name__} needs labels y for training, got y=None.")
+            raise ValueError(f"{type(self).__name__} requires y to be passed, but the target y is None "
+                             "(it needs labels y for training).")
         X = self._check_X(X, reset=cold)
         y = self._check_y(y)
         check_consistent_length(X, y)
@@ -314,7 +263,7 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             raise ValueError(f"classes must be a 1-D list of distinct labels, got {cls!r}.")
         if len(cls) < 2:
             raise ValueError(
-                f"{type(self).__name__} needs at least 2 classes, got {len(cls)} "
+                f"{type(self).__name__} needs at least 2 classes, got {len(cls)} class "
                 f"({cls.tolist()}); pass classes=[...] to declare all labels."
             )
         self.classes_inferred_ = cls
@@ -391,12 +340,12 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
     def _check_y(y):
         y = np.asarray(y)
         if y.ndim == 2 and y.shape[1] == 1:
-            y = y.ravel()
+            y = column_or_1d(y, warn=True)  # DataConversionWarning, as scikit-learn's estimators
         if y.ndim != 1:
             raise ValueError(f"y must be a 1-D array of labels, got shape {y.shape}.")
-        y = column_or_1d(y)
         if y.dtype.kind == "f" and not np.isfinite(y).all():
             raise ValueError("y contains NaN or infinite labels.")
+        check_classification_targets(y)  # continuous targets: "Unknown label type"
         return y
 
     def _encode(self, y):
@@ -562,7 +511,7 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             rows = max(1, int(budget // max(1, self._mc_bytes_per_row(X))))
         else:
             rows = int(batch_size)
-        seed = int(check_random_state(random_state).randint(0, 2**31 - 1))
+        (seed,) = draw_seeds(random_state, 1)
         out = sample_proba(
             self.module_, X, n_samples=n_samples, seed=seed, rows_per_call=rows, device=device,
             nonlinearity=self._get_predict_nonlinearity(), n_classes=len(self.classes_),
@@ -572,42 +521,3 @@ class MCDropoutClassifierBase(NeuralNetClassifier):
             # so their variance is exactly 0).
             out = np.repeat(self.predict_proba(X)[np.newaxis], n_samples, axis=0)
         return out
-
-    # ------------------------------------------------------------------
-    # persistence
-    def load_params(self, f_params=None, *args, **kwargs):
-        """Load saved parameters (``torch.load(..., weights_only=True)``).
-
-        Works on a fresh net (after ``initialize()`` or not): the input
-        metadata (input size, and for the ConvLSTM the input statistics) is
-        read from the saved parameters; pass ``classes=[...]`` to the
-        constructor to get the original labels back (otherwise ``classes_``
-        is ``0..n_classes-1``). See :meth:`skorch.NeuralNet.load_params` for
-        the other arguments.
-
-        Returns
-        -------
-        self
-        """
-        raw_device = self.__dict__.get("device")
-        fresh = not (getattr(self, "initialized_", False) and self._has_input_meta())
-        if fresh and f_params is not None and not kwargs.get("use_safetensors"):
-            pos = f_params.tell() if hasattr(f_params, "tell") else None
-            state = torch.load(f_params, map_location="cpu", weights_only=True)
-            if pos is not None:
-                f_params.seek(pos)
-            if not getattr(self, "initialized_", False):
-                self.initialize()
-            n_classes = self._meta_from_state_dict(state)
-            if self.classes is None:
-                self.classes_inferred_ = np.arange(n_classes)
-            elif len(self.classes) != n_classes:
-                raise ValueError(
-                    f"The saved parameters have {n_classes} classes but classes has "
-                    f"{len(self.classes)} labels."
-                )
-            self._rebuild()
-        super().load_params(f_params, *args, **kwargs)
-        if raw_device == "auto":
-            self.__dict__["device"] = raw_device
-        return self

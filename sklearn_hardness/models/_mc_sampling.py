@@ -21,17 +21,13 @@ bound the memory of one call.
 from __future__ import annotations
 
 import contextlib
-import threading
 
 import numpy as np
 import torch
 
-__all__ = ["MCDropout", "sample_proba", "softmax"]
+from ..utils._torch import seeded_torch_rng
 
-# Seeding torch's *global* generator (fork_rng + manual_seed) is process-wide: two
-# threads doing it at once (joblib's threading backend, a Dask cluster of threads)
-# would draw from each other's seeds. Every such section holds this lock.
-_GLOBAL_RNG_LOCK = threading.RLock()
+__all__ = ["MCDropout", "sample_proba", "softmax"]
 
 #: Bytes of activations one MC forward call may hold, per device type. On CPU
 #: small chunks that stay in cache are fastest (benchmarks/bench_mc_dropout.py);
@@ -188,15 +184,8 @@ def sample_proba(module, X, *, n_samples, seed, rows_per_call, device, nonlinear
         for m in module.modules():
             if _is_dropout(m):
                 m.training = True
-        fork = (
-            torch.random.fork_rng(devices=[device] if device.type == "cuda" else [])
-            if plain_dropout
-            else contextlib.nullcontext()
-        )
-        lock = _GLOBAL_RNG_LOCK if plain_dropout else contextlib.nullcontext()
-        with lock, fork, dropout_generator(module, gen), torch.inference_mode():
-            if plain_dropout:
-                torch.manual_seed(seed)
+        seeded = seeded_torch_rng(seed, device) if plain_dropout else contextlib.nullcontext()
+        with seeded, dropout_generator(module, gen), torch.inference_mode():
             for i0 in range(0, n, b):
                 xb = torch.as_tensor(X[i0 : i0 + b]).to(device)
                 for j0 in range(0, n_samples, r):

@@ -99,20 +99,21 @@ class _MLPClassifier(MCDropoutClassifierBase):
         self.hidden_units = hidden_units
 
     def _check_X(self, X, reset):
-        if hasattr(X, "ndim") and X.ndim != 2 or (not hasattr(X, "ndim") and np.ndim(X) != 2):
-            shape = np.shape(X)
+        # check_array first: a 1-D X gets scikit-learn's "Reshape your data" advice, and
+        # array-likes (lists, wrappers) become arrays before their shape is looked at
+        X = check_array(X, dtype=np.float32, ensure_all_finite=True, allow_nd=True, input_name="X")
+        if X.ndim != 2:
             raise ValueError(
                 f"{type(self).__name__} expects a 2-D array of features (n_samples, n_features); "
-                f"got shape {shape}. Turn selected frames (n, k, H, W, C) into features first "
+                f"got shape {X.shape}. Turn selected frames (n, k, H, W, C) into features first "
                 "(OpticalFlowFeatures or DINOv2Features), or use ConvLSTMClassifier."
             )
-        X = check_array(X, dtype=np.float32, ensure_all_finite=True, input_name="X")
         if reset:
             self.n_features_in_ = X.shape[1]
         elif X.shape[1] != self.n_features_in_:
             raise ValueError(
-                f"X has {X.shape[1]} features, but {type(self).__name__} was fitted with "
-                f"{self.n_features_in_} features."
+                f"X has {X.shape[1]} features, but {type(self).__name__} is expecting "
+                f"{self.n_features_in_} features as input."
             )
         return X
 

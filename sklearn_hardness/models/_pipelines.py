@@ -17,7 +17,13 @@ from sklearn.pipeline import Pipeline
 from sklearn.utils.metaestimators import available_if
 from sklearn.utils.validation import check_is_fitted
 
+from ..features import DINOv2Features, OpticalFlowFeatures
+from ..preprocessing import ContactFrameSelector
+from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
+from ._convlstm import ConvLSTMClassifier
+from ._intensity_channels import IntensityChannels
+from ._mlp import DINOv2NNClassifier, OFNNClassifier
 
 __all__ = [
     "FrameScaler",
@@ -105,10 +111,11 @@ class FrameScaler(TransformerMixin, BaseEstimator):
         check_is_fitted(self, "scale_")
         return check_frames_array(X) / np.float32(self.scale_)
 
+    def __sklearn_tags__(self):
+        return frames_tags(super().__sklearn_tags__())
+
 
 def _selector(n_between, frame_size, color, subtract_first=True):
-    from ..preprocessing import ContactFrameSelector
-
     return ContactFrameSelector(
         n_between=n_between, output_size=frame_size, color=color, subtract_first=subtract_first
     )
@@ -166,8 +173,6 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
     >>> [name for name, _ in make_convlstm_pipeline(intensity_channels=True).steps]
     ['frames', 'scale', 'intensity', 'clf']
     """
-    from ._convlstm import ConvLSTMClassifier
-    from ._intensity_channels import IntensityChannels
 
     classifier_params.setdefault("class_weight", "balanced")
     steps = [("frames", _selector(n_between, frame_size, color)), ("scale", FrameScaler())]
@@ -213,8 +218,6 @@ def make_ofnn_pipeline(*, n_between=2, frame_size=(120, 160), n_features=500, fl
     >>> make_ofnn_pipeline().named_steps["features"].output
     'magnitude_quantiles'
     """
-    from ..features import OpticalFlowFeatures
-    from ._mlp import OFNNClassifier
 
     classifier_params.setdefault("class_weight", "balanced")
     # raw frames, not differences: optical flow tracks the gel's markers or texture
@@ -230,8 +233,6 @@ def make_dinov2nn_pipeline(*, n_between=1, frame_size=(112, 150), model="faceboo
     ``model`` is the DINOv2 backbone (Hugging Face id in the local cache, a
     local directory or a module; see :class:`DINOv2Features`).
     """
-    from ..features import DINOv2Features
-    from ._mlp import DINOv2NNClassifier
 
     return MCDropoutPipeline([("frames", _selector(n_between, frame_size, "rgb")),
                      ("features", DINOv2Features(model=model)),

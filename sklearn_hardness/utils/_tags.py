@@ -1,0 +1,41 @@
+"""Honest scikit-learn tags for estimators whose input is not a 2-D table.
+
+Two kinds of input run through this library: raw press videos (a sequence
+of (T, H, W, C) arrays, lengths may differ) and selected frames (one
+(n, k, H, W, C) array). Neither is 2-D, so ``input_tags.two_d_array`` is
+False: scikit-learn's common checks that feed 2-D data then do not run, and
+:mod:`sklearn_hardness.utils.estimator_checks` runs their video
+equivalents instead.
+"""
+
+from __future__ import annotations
+
+__all__ = ["frames_tags", "videos_tags"]
+
+
+def _not_a_table(tags):
+    tags.input_tags.two_d_array = False
+    tags.input_tags.three_d_array = False
+    tags.input_tags.allow_nan = False
+    return tags
+
+
+def frames_tags(tags):
+    """Tags of an estimator taking selected frames ``(n, k, H, W, C)``.
+
+    A transformer's output is float32 whatever the input dtype.
+    """
+    tags = _not_a_table(tags)
+    if tags.transformer_tags is not None:
+        tags.transformer_tags.preserves_dtype = ["float32"]
+    return tags
+
+
+def videos_tags(tags):
+    """Tags of an estimator taking a sequence of press videos ``(T, H, W, C)``.
+
+    It learns what it needs from the videos in ``fit`` (``requires_fit``).
+    """
+    tags = _not_a_table(tags)
+    tags.requires_fit = True
+    return tags
