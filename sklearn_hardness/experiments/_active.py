@@ -404,7 +404,9 @@ def run_active_sampling(
     in; once every reference object of a class is pressed out, their
     recorded presses are reused (``n_repeated_presses`` in the record).
     ``n_holdout`` presses per class come from whole objects that are neither
-    the test object nor in the pool (see ``_split_objects``). Runs iterate over
+    the test object nor in the pool: per class, the other objects, in a seeded
+    random order, are held out whole until they hold ``n_holdout`` presses,
+    and ``n_holdout`` of those presses are scored. Runs iterate over
     test objects (every object of a class with at least two objects, or
     ``test_objects``) and seeds; a pair is (test object, seed). A class
     without enough objects or presses for this is a ``ValueError`` before any
