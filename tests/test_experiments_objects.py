@@ -190,3 +190,18 @@ def test_tables_pair_runs_by_test_object():
             for s, a in (("random", ar), ("variance", av))]
     row = [r for r in paired_table(ExperimentResult(recs), metrics=["accuracy"]) if r["strategy"] == "variance"][0]
     assert row["n_pairs"] == 3 and row["diff"] == pytest.approx(0.5)
+
+
+def test_object_runs_resume_without_recomputing(tmp_path, monkeypatch):
+    data = _with_objects(tiny_presses(8), per_object=4)
+    kwargs = dict(model="ofnn", strategies=("variance", "random"), test_objects=["class1-obj0"], seeds=[0],
+                  n_jobs=1, verbose=0, results_path=tmp_path / "runs.jsonl", **TINY)
+    first = run_active_sampling(data, **kwargs)
+
+    def fail(*args, **kw):
+        raise AssertionError("a finished (test object, seed) pair was run again")
+
+    monkeypatch.setattr(_active, "_active_pair", fail)
+    again = run_active_sampling(data, **kwargs)
+    assert [r["key"] for r in again.records] == [r["key"] for r in first.records]
+    assert all(r["key"]["test_object"] == "class1-obj0" for r in again.records)
