@@ -86,6 +86,10 @@ def test_too_few_objects_is_a_clear_error_before_any_run():
                             **dict(TINY, n_holdout=2))
     with pytest.raises(ValueError, match="unknown"):
         run_active_sampling(data, model="ofnn", test_objects=["no-such-object"], seeds=[0], verbose=0, **TINY)
+    shared = _with_objects(tiny_presses(8), per_object=4)
+    shared["object_id"] = np.array([o.split("-")[1] for o in shared["object_id"]])  # "obj0" in every class
+    with pytest.raises(ValueError, match="one class"):
+        run_active_sampling(shared, model="ofnn", seeds=[0], verbose=0, **TINY)
     with pytest.raises(ValueError, match="object ids"):
         run_active_sampling(tiny_presses(8), model="ofnn", test_objects=["x"], seeds=[0], verbose=0, **TINY)
 

@@ -316,6 +316,11 @@ def _check_class_counts(inputs, cfg, test_classes):
 def _object_pairs(inputs, cfg, test_classes, test_objects, seeds):
     """The (test class, test object, seed) of every pair, each split checked before any run."""
     y, groups = inputs.y, inputs.object_id
+    for obj in np.unique(groups):
+        classes = np.unique(y[groups == obj])
+        if classes.size > 1:
+            raise ValueError(f"object_id {obj!r} has presses of classes {classes.tolist()}; an object has "
+                             "one class (give objects of different classes different ids).")
     n_objects = {c: np.unique(groups[y == c]).size for c in range(inputs.n_classes)}
     if test_classes is not None:
         test_classes = _check_int_list(test_classes, "test_classes", set(range(inputs.n_classes)))
