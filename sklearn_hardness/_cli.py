@@ -217,8 +217,9 @@ def _add_reproduce(sub):
                    help="the paper's setup: silicone5 (robot data, ConvLSTM, e0=100, e=50, M=40) or "
                    "shore9 (Yuan's data, DINOv2NN, e0=50, e=25, M=80). Default silicone5.")
     p.add_argument("--dataset", default=None,
-                   help="manifest CSV of real recordings (see load_press_videos); default: the "
-                   "simulator with the preset's objects")
+                   help="manifest CSV of real recordings (see load_press_videos; with an object_id "
+                   "column and several objects per class the runs are object-disjoint) or 'everyday' "
+                   "(simulated everyday objects); default: the simulator with the preset's objects")
     p.add_argument("--model", default=None, choices=["convlstm", "ofnn", "dinov2nn"],
                    help="classifier (default: the preset's)")
     p.add_argument("--dinov2-model", default=None,
@@ -337,7 +338,8 @@ def _run_reproduce(args):
     n_it = cfg["n_iterations"]
     table = format_table(rows, mae_unit=cfg.get("hardness_unit"))
     header = (
-        f"{cfg['preset']}: {cfg['model']}, s0={cfg['n_initial']}, s={cfg['n_per_query']}, N={n_it}, "
+        f"{cfg['dataset']} ({cfg['preset']} settings, {cfg['protocol']} protocol): {cfg['model']}, "
+        f"s0={cfg['n_initial']}, s={cfg['n_per_query']}, N={n_it}, "
         f"e0={cfg['initial_epochs']}, e={cfg['epochs_per_query']}, M={cfg['max_reservoir']}, "
         f"dropout={cfg['dropout']}, n_test={cfg['n_test']}, MC passes={cfg['n_mc_samples']}"
         + (f", frames={cfg['frame_size'][0]}x{cfg['frame_size'][1]}" if cfg.get("frame_size") else "")
@@ -355,15 +357,18 @@ def _run_reproduce(args):
     with open(os.path.join(args.out, "table.txt"), "w") as f:
         f.write(header + "\n" + table + "\n" + note + "\n")
     if "random" in cfg["strategies"] and len(cfg["strategies"]) > 1:
-        # strategies on the same (test object, seed) pairs, against random
-        paired = format_paired_table(paired_table(result)) + (
-            "\nConverged runs; differences and p-values over the pairs where both runs converged. "
-            "presses_at_stop / accuracy_at_stop: reference presses used and test accuracy when the "
-            "vote of the test presses is settled (experiments.decision_stop: 80% agree, 2 iterations)."
-        ) + "\n\n" + format_presses_to_reach(presses_to_reach(result)) + (
+        # strategies on the same (test object, seed) pairs, against random; what a robot user
+        # wants first: presses to reach random's accuracy, then presses and accuracy at the stop
+        paired = format_presses_to_reach(presses_to_reach(result)) + (
             "\nPresses to reach random's final accuracy: the first press count at which a strategy's mean "
             "test accuracy over the pairs is at least random's mean final accuracy (experiments."
             "presses_to_reach; 95% bootstrap intervals over the pairs; never: not within the budget)."
+        ) + "\n\n" + format_paired_table(paired_table(result)) + (
+            "\nConverged runs; differences and p-values over the pairs where both runs converged. "
+            "presses_at_stop / accuracy_at_stop: reference presses used and test accuracy when the "
+            "vote of the test presses is settled (experiments.decision_stop: 80% agree, 2 iterations); "
+            "accuracy: on the test object's presses after the budget; holdout_accuracy: on held-out "
+            "presses of other objects."
         )
         print(paired)
         with open(os.path.join(args.out, "paired.txt"), "w") as f:

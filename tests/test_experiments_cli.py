@@ -53,6 +53,39 @@ def test_reproduce_on_a_manifest(manifest, tmp_path, capsys):
     assert (out / "results.jsonl").read_bytes() == before
 
 
+@pytest.mark.slow
+def test_reproduce_on_a_manifest_of_many_objects_is_object_disjoint(tmp_path, capsys):
+    data = tiny_presses()
+    folder = tmp_path / "recordings"
+    folder.mkdir()
+    seen = {}
+    with open(folder / "manifest.csv", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["path", "label", "object_id"])
+        for i in range(len(data.videos)):
+            c = int(data.target[i])
+            k = seen[c] = seen.get(c, -1) + 1
+            write_video(folder / f"press_{i:03d}.npy", data.videos[i])
+            w.writerow([f"press_{i:03d}.npy", data.target_names[c], f"object{c}-{k // 4}"])  # 2 objects a class
+    out = tmp_path / "out"
+    args = ["reproduce", "--dataset", str(folder / "manifest.csv"), "--model", "ofnn", "--out", str(out),
+            "--n-runs", "1", "--strategies", "variance", "random", "--epochs", "4", "2", "--quiet", "--set",
+            "n_iterations=2", "n_per_query=2", "n_initial=2", "n_test=2", "max_reservoir=8", "n_mc_samples=4",
+            "frame_size=(16,20)"]
+    assert main(args) == 0
+    header = capsys.readouterr().out.splitlines()[0]
+    assert header.startswith(f"{folder / 'manifest.csv'} (silicone5 settings, object-disjoint protocol)")
+    paired = (out / "paired.txt").read_text()
+    # what a robot user wants comes first: presses to reach random, then presses and accuracy at the stop
+    assert paired.index("presses to reach it") < paired.index("presses_at_stop")
+    metrics = [line.split()[1] for line in paired.splitlines() if line.startswith("variance ")
+               and line.split()[1] in ("presses_at_stop", "accuracy_at_stop", "accuracy", "auc", "mae")]
+    assert metrics[:3] == ["presses_at_stop", "accuracy_at_stop", "accuracy"]
+    records = [json.loads(line) for line in (out / "results.jsonl").read_text().splitlines()]
+    assert len(records) == 2 * 10  # strategies x test objects (2 per class) x 1 seed
+    assert {r["key"]["test_object"] for r in records} == {f"object{c}-{k}" for c in range(5) for k in (0, 1)}
+
+
 def test_reproduce_help_and_bad_input(capsys, tmp_path):
     with pytest.raises(SystemExit):
         main(["reproduce", "--help"])

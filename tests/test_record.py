@@ -119,3 +119,28 @@ def test_cli_record_keeps_hardness_consistent(camera, tmp_path):
 def test_cli_record_without_a_camera(tmp_path):
     with pytest.raises(OSError, match="Could not open capture source camera 97"):
         main(["record", "--source", "97", "--label", "soft", "--out", str(tmp_path / "p")])
+
+
+def test_simulated_sensor_streams_presses_of_the_chosen_object_through_record_video():
+    from sklearn_hardness.datasets import SimulatedSensor, make_presses
+
+    data = make_presses("everyday", n_per_class=2, n_objects=3, class_ratio=[1, 1, 1], image_size=(24, 32),
+                        codec=None, random_state=0)
+    sensor = SimulatedSensor(data, random_state=0)
+    obj = sensor.objects[1]
+    got = []
+    for _ in range(3):  # two recorded presses of obj, then again in a new order
+        sensor.press(obj)
+        video = record_video(sensor, n_frames=sensor.n_frames)
+        i = sensor.pressed_[-1][1]
+        assert data.object_id[i] == obj
+        np.testing.assert_array_equal(video, data.videos[i])  # RGB, as record_video returns a camera's
+        assert sensor.n_frames == 0 and sensor.isOpened()  # left open: the next press reads on
+        got.append(i)
+    assert sorted(got[:2]) == np.flatnonzero(data.object_id == obj).tolist()
+    with pytest.raises(ValueError, match="unknown object"):
+        sensor.press("no-such-object")
+    with pytest.raises(ValueError, match="gave no frames"):
+        record_video(sensor, n_frames=5)  # nothing pressed since the last recording
+    with pytest.raises(ValueError, match="object_id"):
+        SimulatedSensor({"videos": data.videos})

@@ -1,4 +1,4 @@
-"""An oracle that answers "press reference object i s more times" from a pool."""
+"""An oracle that answers "press a reference object of class c s more times" from a pool."""
 
 from __future__ import annotations
 
@@ -22,18 +22,33 @@ class PressOracle:
     shuffled once (seeded) and handed out in that order, without
     replacement, so a press is never given twice.
 
+    With ``groups`` (the physical object of each press; many objects per
+    class), the learner still asks for a class and the oracle presses one
+    *reference object* of that class: the object of the class pressed least
+    so far (presses handed out), ties broken at random by ``random_state``,
+    among the objects with unseen presses left. :meth:`press_object` answers
+    as a robot would, ``(object_id, X, y)`` with up to ``n_presses`` presses
+    of that one object; :meth:`press` (and :meth:`initial`) fill
+    ``n_presses`` by pressing objects in turn by that rule, so an answer
+    may span several objects when one has too few recorded presses. Each
+    object's presses are shuffled once. Without ``groups`` (or with one
+    object per class) the object is the class and nothing changes.
+
     Parameters
     ----------
     X_pool : array-like or sequence of videos
         The presses to draw from (anything :func:`sklearn.utils._safe_indexing`
         can index: arrays, lists, lazy video sequences).
     y_pool : array-like of shape (n_pool,)
-        Their labels (reference object of each press).
+        Their labels (class of each press).
+    groups : array-like of shape (n_pool,) or None, default=None
+        The physical object of each press (e.g. a manifest's ``object_id``),
+        each object in one class. None: one object per class (the label).
     random_state : int, RandomState instance or None, default=None
         Seeds the order in which presses are handed out.
     on_exhausted : {"raise", "truncate", "recycle"}, default="raise"
         What happens when more presses of a class are asked for than remain
-        unseen:
+        unseen (with ``groups``: than remain over all objects of the class):
 
         - ``"raise"``: ``ValueError`` naming the class and how many remain;
           nothing is drawn.
@@ -41,7 +56,9 @@ class PressOracle:
           warn.
         - ``"recycle"``: return the remaining unseen presses, then start
           again through a fresh shuffle of all the class's presses (so
-          presses repeat) and warn.
+          presses repeat) and warn. With ``groups``, every object of the
+          class gets a fresh shuffle of its presses and the least-pressed
+          rule goes on (press counts are kept).
 
     Attributes
     ----------
@@ -49,6 +66,10 @@ class PressOracle:
         The labels in the pool, sorted.
     drawn_ : list of int
         Pool indices handed out so far, in order.
+    drawn_objects_ : list
+        The object of each press in ``drawn_`` (the label without ``groups``).
+    n_pressed_ : dict
+        Presses handed out so far per object (per class without ``groups``).
 
     Examples
     --------
@@ -62,6 +83,16 @@ class PressOracle:
     >>> X1, y1 = oracle.press(1, 2)       # press object 1 twice more
     >>> oracle.n_remaining()
     {0: 2, 1: 0}
+
+    With several objects per class, the answer names the object to press:
+
+    >>> groups = np.array(["cup", "cup", "mug", "foam", "sponge", "sponge"])
+    >>> oracle = PressOracle(X, y, groups=groups, random_state=0)
+    >>> obj, X1, y1 = oracle.press_object(0, 2)   # a class-0 object, twice
+    >>> str(obj), len(y1)
+    ('mug', 1)
+    >>> str(oracle.press_object(0, 2)[0])          # the one pressed least so far
+    'cup'
     """
 
     # not an estimator (it is not fit): the constructor validates, as scikit-learn's
@@ -70,12 +101,13 @@ class PressOracle:
         {
             "X_pool": ["array-like"],
             "y_pool": ["array-like"],
+            "groups": ["array-like", None],
             "random_state": ["random_state"],
             "on_exhausted": [StrOptions(set(_ON_EXHAUSTED))],
         },
         prefer_skip_nested_validation=True,
     )
-    def __init__(self, X_pool, y_pool, *, random_state=None, on_exhausted="raise"):
+    def __init__(self, X_pool, y_pool, *, groups=None, random_state=None, on_exhausted="raise"):
         y = np.asarray(y_pool)
         if y.ndim != 1:
             raise ValueError(f"y_pool must be 1-D, got shape {y.shape}.")
@@ -86,14 +118,38 @@ class PressOracle:
             raise ValueError("the pool is empty.")
         self.X_pool = X_pool
         self.y_pool = y
+        self.groups = groups
         self.random_state = random_state
         self.on_exhausted = on_exhausted
         self._rng = check_random_state(random_state)
         self.classes_ = np.unique(y)
         self._members = {c: np.flatnonzero(y == c) for c in self.classes_.tolist()}
-        self._order = {c: self._rng.permutation(m) for c, m in self._members.items()}
-        self._next = {c: 0 for c in self._members}
+        self._objects = None
+        if groups is None:
+            # one object per class: the class's presses in one seeded order (as always)
+            self._order = {c: self._rng.permutation(m) for c, m in self._members.items()}
+            self._next = {c: 0 for c in self._members}
+            self.n_pressed_ = {c: 0 for c in self._members}
+        else:
+            g = np.asarray(groups)
+            if g.shape != y.shape:
+                raise ValueError(f"groups has shape {g.shape}, y_pool {y.shape}; give one object per press.")
+            self._objects = {}
+            for c, m in self._members.items():
+                objs = [o.item() if isinstance(o, np.generic) else o for o in np.unique(g[m])]
+                self._objects[c] = objs
+            owner = {}
+            for o, c in zip(g.tolist(), y.tolist()):
+                if owner.setdefault(o, c) != c:
+                    raise ValueError(f"object {o!r} has presses of classes {owner[o]!r} and {c!r}; "
+                                     "an object belongs to one class.")
+            objects = [o for c in self._members for o in self._objects[c]]
+            self._obj_members = {o: np.flatnonzero(g == o) for o in objects}
+            self._order = {o: self._rng.permutation(m) for o, m in self._obj_members.items()}
+            self._next = {o: 0 for o in objects}
+            self.n_pressed_ = {o: 0 for o in objects}
         self.drawn_ = []
+        self.drawn_objects_ = []
 
     def _key(self, label):
         key = label.item() if isinstance(label, np.generic) else label
@@ -106,35 +162,79 @@ class PressOracle:
     def n_remaining(self, label=None):
         """Unseen presses left, for one class or (``label=None``) as a dict."""
         if label is None:
-            return {c: len(self._order[c]) - self._next[c] for c in self._members}
+            return {c: self.n_remaining(c) for c in self._members}
         key = self._key(label)
-        return len(self._order[key]) - self._next[key]
+        if self._objects is None:
+            return len(self._order[key]) - self._next[key]
+        return sum(self._left(o) for o in self._objects[key])
+
+    def _left(self, obj):
+        return len(self._order[obj]) - self._next[obj]
+
+    def _pick_object(self, key):
+        """The object of class ``key`` pressed least so far among those with unseen presses; ties at random."""
+        objs = [o for o in self._objects[key] if self._left(o) > 0]
+        if not objs:
+            return None
+        counts = np.array([self.n_pressed_[o] for o in objs])
+        least = [o for o, n in zip(objs, counts) if n == counts.min()]
+        return least[int(self._rng.randint(len(least)))] if len(least) > 1 else least[0]
+
+    def _take_objects(self, key, n):
+        """``n`` presses of class ``key`` from its objects in turn (least pressed first)."""
+        if n > self.n_remaining(key):
+            n = self._exhausted(key, n, self.n_remaining(key))
+            if self.on_exhausted == "recycle":
+                while self.n_remaining(key) < n:
+                    for o in self._objects[key]:
+                        self._order[o] = np.concatenate(
+                            [self._order[o], self._rng.permutation(self._obj_members[o])])
+        out = []
+        while n > 0:
+            obj = self._pick_object(key)
+            got = self._take_one(obj, n)
+            out.append(got)
+            n -= len(got)
+        return np.concatenate(out) if out else np.empty(0, dtype=np.intp)
+
+    def _take_one(self, obj, n):
+        start = self._next[obj]
+        idx = self._order[obj][start: start + n]
+        self._next[obj] = start + len(idx)
+        self.n_pressed_[obj] += len(idx)
+        self.drawn_objects_.extend([obj] * len(idx))
+        return idx
+
+    def _exhausted(self, key, n, left):
+        """Warn for ``truncate`` / ``recycle``; the number of presses to hand out."""
+        if self.on_exhausted == "truncate":
+            warnings.warn(
+                f"reference object {key!r}: asked for {n} presses, only {left} "
+                "unseen remain; returning those.",
+                UserWarning,
+                stacklevel=4,
+            )
+            return left
+        warnings.warn(
+            f"reference object {key!r}: asked for {n} presses, only {left} "
+            "unseen remain; reusing its presses in a new random order.",
+            UserWarning,
+            stacklevel=4,
+        )
+        return n
 
     def _take(self, key, n):
+        if self._objects is not None:
+            return self._take_objects(key, n)
         left = len(self._order[key]) - self._next[key]
         if n > left:
-            if self.on_exhausted == "truncate":
-                warnings.warn(
-                    f"reference object {key!r}: asked for {n} presses, only {left} "
-                    "unseen remain; returning those.",
-                    UserWarning,
-                    stacklevel=3,
-                )
-                n = left
-            elif self.on_exhausted == "recycle":
-                warnings.warn(
-                    f"reference object {key!r}: asked for {n} presses, only {left} "
-                    "unseen remain; reusing its presses in a new random order.",
-                    UserWarning,
-                    stacklevel=3,
-                )
+            n = self._exhausted(key, n, left)
+            if self.on_exhausted == "recycle":
                 while len(self._order[key]) - self._next[key] < n:
                     self._order[key] = np.concatenate(
                         [self._order[key], self._rng.permutation(self._members[key])]
                     )
-        start = self._next[key]
-        self._next[key] = start + n
-        return self._order[key][start : start + n]
+        return self._take_one(key, n)
 
     @validate_params(
         {"n_presses": [Interval(Integral, 1, None, closed="left")]},
@@ -157,7 +257,8 @@ class PressOracle:
         X : same kind as ``X_pool``
             The presses.
         y : ndarray of shape (n,)
-            Their labels.
+            Their labels. With ``groups``, ``drawn_objects_[-n:]`` says
+            which object each press is of.
 
         Raises
         ------
@@ -184,6 +285,60 @@ class PressOracle:
         idx = np.concatenate([self._take(key, int(n_presses)) for key in keys]).astype(np.intp)
         self.drawn_.extend(idx.tolist())
         return _safe_indexing(self.X_pool, idx), self.y_pool[idx]
+
+    @validate_params(
+        {"n_presses": [Interval(Integral, 1, None, closed="left")]},
+        prefer_skip_nested_validation=True,
+    )
+    def press_object(self, label, n_presses=1):
+        """Press one reference object of class ``label``: the robot's answer to a query.
+
+        The object is the one of that class pressed least so far among those
+        with unseen presses left (ties broken at random by ``random_state``);
+        without ``groups``, the class itself.
+
+        Parameters
+        ----------
+        label : label
+            The class asked for, e.g. ``learner.classes_[idx[0]]``.
+        n_presses : int, default=1
+            Presses wanted. An object gives at most its unseen presses (a
+            recording holds only so many); ask again for more.
+
+        Returns
+        -------
+        object_id : object
+            The object pressed (``groups`` value, or the label).
+        X : same kind as ``X_pool``
+            Its presses (``n_presses`` or fewer).
+        y : ndarray of shape (n,)
+            Their labels.
+
+        Raises
+        ------
+        ValueError
+            For an unknown label, or when no unseen press of the class is
+            left and ``on_exhausted="raise"``.
+        """
+        key = self._key(label.item() if isinstance(label, np.generic) else label)
+        if self._objects is None:
+            X, y = self.press(key, n_presses)
+            return key, X, y
+        if self.n_remaining(key) == 0:
+            if self.on_exhausted == "raise":
+                raise ValueError(f"reference object {key!r} has no unseen presses left in the pool.")
+            if self.on_exhausted == "truncate":
+                self._exhausted(key, n_presses, 0)
+                return None, _safe_indexing(self.X_pool, np.empty(0, np.intp)), self.y_pool[:0]
+            idx = self._take_objects(key, 1)  # recycle: refill the class, then one press
+            obj = self.drawn_objects_[-1]
+            idx = np.concatenate([idx, self._take_one(obj, int(n_presses) - 1)])
+        else:
+            obj = self._pick_object(key)
+            idx = self._take_one(obj, int(n_presses))
+        idx = idx.astype(np.intp)
+        self.drawn_.extend(idx.tolist())
+        return obj, _safe_indexing(self.X_pool, idx), self.y_pool[idx]
 
     @validate_params(
         {"n_per_class": [Interval(Integral, 1, None, closed="left")]},

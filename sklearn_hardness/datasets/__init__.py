@@ -2,6 +2,7 @@
 
 from ._lazy import LazyVideoSequence
 from ._manifest import load_press_videos
+from ._sensor import SimulatedSensor
 from ._simulator import make_presses
 
-__all__ = ["LazyVideoSequence", "load_press_videos", "make_presses"]
+__all__ = ["LazyVideoSequence", "load_press_videos", "make_presses", "SimulatedSensor"]

@@ -5,7 +5,9 @@ from __future__ import annotations
 import copy
 import numbers
 import warnings
+import zlib
 
+import joblib
 import numpy as np
 
 from ._config import check_config, config_hash, get_config
@@ -19,10 +21,24 @@ __all__ = ["run_active_sampling", "STRATEGIES"]
 STRATEGIES = ("variance", "entropy", "random", "bald")
 
 
-def _seeds(seed, test_class, n):
-    """Independent int seeds for one (test class, seed): the same for every strategy (paired runs)."""
-    ss = np.random.SeedSequence([int(seed), int(test_class), 20240917])
+def _seeds(seed, test_class, n, test_object=None):
+    """Independent int seeds for one (test object, seed): the same for every strategy (paired runs).
+
+    Without object ids the test object is the class (the seeds of earlier results files);
+    with them the object's id enters the seed too.
+    """
+    entropy = [int(seed), int(test_class), 20240917]
+    if test_object is not None:
+        entropy.append(zlib.crc32(str(test_object).encode()))
+    ss = np.random.SeedSequence(entropy)
     return [int(s) for s in ss.generate_state(n, dtype=np.uint32) % (2**31 - 1)]
+
+
+def _has_objects(object_id, y):
+    """True when some class has presses of more than one object (the object-disjoint protocol)."""
+    if object_id is None:
+        return False
+    return any(np.unique(object_id[y == c]).size > 1 for c in np.unique(y))
 
 
 def _uncertainty(learner, X_test, seed):
@@ -70,13 +86,67 @@ def _split(y, cfg, n_classes, test_class, split_seed):
     return test_idx, holdout_idx, pool
 
 
-def _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy):
+def _split_objects(y, groups, cfg, n_classes, test_object, split_seed):
+    """The object-disjoint split: test presses of one object, held-out presses of unseen objects.
+
+    The test presses are ``n_test`` presses of ``test_object`` (all of them if
+    it has fewer); none of its other presses is used. For ``n_holdout``, the
+    other objects of every class are taken whole, in a seeded random order,
+    until they hold at least ``n_holdout`` presses, and ``n_holdout`` of
+    those presses are scored; the rest of those objects' presses is unused.
+    The pool is every press of the remaining objects. A class whose pool
+    would hold no object or fewer than ``n_initial`` presses is a
+    ``ValueError`` naming it.
+    """
+    rng = np.random.default_rng([split_seed, 2])
+    own = np.flatnonzero(groups == test_object)
+    test_idx = np.sort(rng.choice(own, min(cfg["n_test"], own.size), replace=False))
+    n_hold = cfg.get("n_holdout", 0)
+    hold, hold_objects = [], []
+    used = groups == test_object
+    for c in range(n_classes):
+        objs = np.unique(groups[(y == c) & ~used])
+        if n_hold:
+            objs = rng.permutation(objs)
+            counts = np.array([np.sum(groups == o) for o in objs])
+            k = int(np.searchsorted(np.cumsum(counts), n_hold)) + 1  # objects to reach n_hold presses
+            if k > objs.size - 1:
+                raise ValueError(
+                    f"class {c} has {objs.size} object(s) besides the test object {test_object!r} with "
+                    f"{counts.sum()} presses: holding out n_holdout={n_hold} presses of unseen objects "
+                    "needs objects with that many presses and one more object to press. Use a smaller "
+                    "n_holdout, or n_holdout=0."
+                )
+            members = np.flatnonzero(np.isin(groups, objs[:k]))
+            hold.append(np.sort(rng.choice(members, n_hold, replace=False)))
+            hold_objects.extend(objs[:k].tolist())
+            objs = objs[k:]
+        n_pool = int(np.sum(np.isin(groups, objs)))
+        if objs.size == 0 or n_pool < cfg["n_initial"]:
+            raise ValueError(
+                f"class {c} has {objs.size} reference object(s) with {n_pool} presses left when "
+                f"{test_object!r} is the test object" + (f" and n_holdout={n_hold}" if n_hold else "")
+                + f"; the initial training needs n_initial={cfg['n_initial']} presses of it."
+            )
+    holdout_idx = np.concatenate(hold) if hold else np.empty(0, dtype=int)
+    pool = np.flatnonzero(~used & ~np.isin(groups, hold_objects))
+    return test_idx, holdout_idx, pool
+
+
+def _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy, groups=None, test_object=None):
     """What the paired runs of one (test object, seed) share: split, oracle, initial training."""
     from ..active import ActiveLearner, PressOracle
 
-    split_seed, oracle_seed, learner_seed, model_seed, mc_seed = _seeds(seed, test_class, 5)
-    test_idx, holdout_idx, pool = _split(y, cfg, n_classes, test_class, split_seed)
-    oracle = PressOracle(pool, y[pool], random_state=oracle_seed)
+    split_seed, oracle_seed, learner_seed, model_seed, mc_seed = _seeds(seed, test_class, 5, test_object)
+    if test_object is None:
+        test_idx, holdout_idx, pool = _split(y, cfg, n_classes, test_class, split_seed)
+        oracle = PressOracle(pool, y[pool], random_state=oracle_seed)
+    else:
+        test_idx, holdout_idx, pool = _split_objects(y, groups, cfg, n_classes, test_object, split_seed)
+        # a robot can press a reference object again: a replay reuses its recorded presses once
+        # every reference object of the class is pressed out (n_repeated_presses in the record)
+        oracle = PressOracle(pool, y[pool], groups=groups[pool], random_state=oracle_seed,
+                             on_exhausted="recycle")
     init_idx, y0 = oracle.initial(cfg["n_initial"])
     scale = _input_scale(X[init_idx], cfg, model)
 
@@ -101,7 +171,8 @@ def _rows(X, idx, scale):
     return X[idx] if scale is None else X[idx] * scale
 
 
-def _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, state, strategy):
+def _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, state, strategy,
+                  test_object=None):
     """The queries of one strategy from a trained initial state. Returns the record."""
     from ..models import is_converged
 
@@ -129,6 +200,10 @@ def _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, stat
     }
     if X_hold is not None:
         rec.update(holdout_indices=holdout_idx, holdout_accuracy=[], holdout_mae=[])
+    if test_object is not None:
+        n0 = len(init_idx)
+        rec.update(test_object=str(test_object), initial_objects=[str(o) for o in oracle.drawn_objects_[:n0]],
+                   drawn_objects=[])
 
     def record_state(unc):
         acc, mae, pred = _evaluate(learner, X_test, y_test, hardness)
@@ -149,7 +224,11 @@ def _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, stat
         entry = learner.history_[-1]
         record_state({k: entry[k] for k in ("entropy", "variance", "bald")})
         label = int(learner.classes_[idx[0]])
-        new_idx, new_y = oracle.press(label, cfg["n_per_query"])
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message=".*reusing its presses.*")  # counted below
+            new_idx, new_y = oracle.press(label, cfg["n_per_query"])
+        if test_object is not None:
+            rec["drawn_objects"].append([str(o) for o in oracle.drawn_objects_[-len(new_idx):]])
         learner.teach(_rows(X, new_idx, scale), new_y)
         rec["queried"].append(label)
         rec["drawn_indices"].append(new_idx)
@@ -157,28 +236,34 @@ def _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, stat
         rec["reservoir_size"].append(learner.history_[-1]["reservoir_size"])
         rec["epochs"].append(learner.history_[-1]["epochs"])
     record_state(_uncertainty(learner, X_test, state["mc_seed"]))
+    if test_object is not None:
+        drawn = np.concatenate([init_idx] + [np.asarray(d) for d in rec["drawn_indices"]])
+        rec["n_repeated_presses"] = int(drawn.size - np.unique(drawn).size)
     return rec
 
 
-def _active_run(X, y, hardness, cfg, model, n_classes, target_names, strategy, test_class, seed, key):
+def _active_run(X, y, hardness, cfg, model, n_classes, target_names, strategy, test_class, seed, key,
+                groups=None, test_object=None):
     """One run: (strategy, test object, seed), trained from scratch. Returns the record (without provenance)."""
-    state = _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy)
-    return _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, state, strategy)
+    state = _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy, groups, test_object)
+    return _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, state, strategy,
+                         test_object)
 
 
-def _active_pair(X, y, hardness, cfg, model, n_classes, target_names, strategies, test_class, seed, keys):
+def _active_pair(X, y, hardness, cfg, model, n_classes, target_names, strategies, test_class, seed, keys,
+                 groups=None, test_object=None):
     """The paired runs of one (test object, seed): the initial model is trained once and copied.
 
     Each strategy continues from a deep copy of the trained learner and of
     the oracle (weights, optimizer state, random generators), so its record
     equals that of :func:`_active_run` with the same arguments.
     """
-    state = _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategies[0])
+    state = _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategies[0], groups, test_object)
     records = []
     for i, strategy in enumerate(strategies):
         run_state = state if i == len(strategies) - 1 else copy.deepcopy(state)
         records.append(_continue_run(X, y, hardness, cfg, n_classes, target_names, test_class,
-                                     run_state, strategy))
+                                     run_state, strategy, test_object))
     return records
 
 
@@ -212,6 +297,68 @@ def _check_int_list(values, name, allowed=None):
     return out
 
 
+def _check_class_counts(inputs, cfg, test_classes):
+    counts = np.bincount(inputs.y, minlength=inputs.n_classes)
+    worst = cfg["n_initial"] + cfg["n_iterations"] * cfg["n_per_query"]
+    for c in range(inputs.n_classes):
+        need = worst + cfg["n_holdout"] + (cfg["n_test"] if c in test_classes else 0)
+        if counts[c] < need:
+            raise ValueError(
+                f"class {c} ({inputs.target_names[c]}) has {counts[c]} presses, but a run may need "
+                f"{need}: n_initial={cfg['n_initial']} + n_iterations={cfg['n_iterations']} x "
+                f"n_per_query={cfg['n_per_query']}"
+                + (f" + n_holdout={cfg['n_holdout']}" if cfg["n_holdout"] else "")
+                + (f" + n_test={cfg['n_test']}" if c in test_classes else "")
+                + ". Use fewer iterations or presses, or a larger dataset."
+            )
+
+
+def _object_pairs(inputs, cfg, test_classes, test_objects, seeds):
+    """The (test class, test object, seed) of every pair, each split checked before any run."""
+    y, groups = inputs.y, inputs.object_id
+    for obj in np.unique(groups):
+        classes = np.unique(y[groups == obj])
+        if classes.size > 1:
+            raise ValueError(f"object_id {obj!r} has presses of classes {classes.tolist()}; an object has "
+                             "one class (give objects of different classes different ids).")
+    n_objects = {c: np.unique(groups[y == c]).size for c in range(inputs.n_classes)}
+    if test_classes is not None:
+        test_classes = _check_int_list(test_classes, "test_classes", set(range(inputs.n_classes)))
+        lonely = [c for c in test_classes if n_objects[c] < 2]
+        if lonely:
+            raise ValueError(f"classes {lonely} have one object only: it cannot be the test object "
+                             "(no reference object of its class would be left).")
+    if test_objects is None:
+        classes = test_classes if test_classes is not None else [c for c in n_objects if n_objects[c] >= 2]
+        test_objects = [str(o) for c in classes for o in np.unique(groups[y == c])]
+    else:
+        if isinstance(test_objects, str):
+            test_objects = [test_objects]
+        test_objects = [str(o) for o in test_objects]
+        unknown = sorted(set(test_objects) - set(groups.astype(str).tolist()))
+        if unknown or not test_objects or len(set(test_objects)) != len(test_objects):
+            raise ValueError(f"test_objects must be distinct object ids of the dataset; unknown: {unknown}.")
+        if test_classes is not None:
+            test_objects = [o for o in test_objects if int(y[groups.astype(str) == o][0]) in test_classes]
+    groups = groups.astype(str)
+    pairs = []
+    for obj in test_objects:
+        tc = int(y[groups == obj][0])
+        if n_objects[tc] < 2:
+            raise ValueError(f"object {obj!r} is the only object of class {tc}; it cannot be the test object.")
+        for seed in seeds:
+            _split_objects(y, groups, cfg, inputs.n_classes, obj, _seeds(seed, tc, 1, obj)[0])
+            pairs.append((tc, obj, seed))
+    return pairs
+
+
+def _dataset_name(dataset):
+    """What a table's header calls the dataset: the preset, the manifest's path or "a Bunch"."""
+    if isinstance(dataset, str) or hasattr(dataset, "__fspath__"):
+        return str(dataset)
+    return "a Bunch"
+
+
 def run_active_sampling(
     dataset="silicone5",
     *,
@@ -220,6 +367,7 @@ def run_active_sampling(
     strategies=STRATEGIES,
     n_runs=None,
     test_classes=None,
+    test_objects=None,
     seeds=None,
     quick=False,
     n_jobs=None,
@@ -249,20 +397,44 @@ def run_active_sampling(
     The ConvLSTM's input scale (``input_scale="std"``) is fitted on the
     run's initial training presses.
 
+    **Many objects per class** (an ``object_id`` with more than one object
+    in some class: the ``"everyday"`` preset, or a manifest with an
+    ``object_id`` column): the runs are object-disjoint. A run's test object
+    is one physical object: up to ``n_test`` of its presses are the test
+    presses and none of its presses is trained on, in the pool or held out.
+    The other objects are the reference objects, with their known class. The
+    strategies still score classes (Eq. 1, 2); the oracle presses the
+    reference object of the chosen class pressed least so far (ties at
+    random, seeded), object after object until ``n_per_query`` presses are
+    in; once every reference object of a class is pressed out, their
+    recorded presses are reused (``n_repeated_presses`` in the record).
+    ``n_holdout`` presses per class come from whole objects that are neither
+    the test object nor in the pool: per class, the other objects, in a seeded
+    random order, are held out whole until they hold ``n_holdout`` presses,
+    and ``n_holdout`` of those presses are scored. Runs iterate over
+    test objects (every object of a class with at least two objects, or
+    ``test_objects``) and seeds; a pair is (test object, seed). A class
+    without enough objects or presses for this is a ``ValueError`` before any
+    run. Without object ids, or with one object per class (``silicone5``,
+    ``shore9``), the test object is the class, as above, and splits, records
+    and configuration hashes are those of earlier versions.
+
     Following the paper, a run whose training loss after the initial training
     exceeds ``convergence_threshold`` (1.0 for the ConvLSTM on ``silicone5``)
     is reported as not converged and not continued.
 
     Parameters
     ----------
-    dataset : {"silicone5", "shore9"}, path-like or Bunch, default="silicone5"
+    dataset : {"silicone5", "shore9", "everyday"}, path-like or Bunch, default="silicone5"
         A simulator preset (:func:`~sklearn_hardness.datasets.make_presses`),
         a manifest CSV of recordings
         (:func:`~sklearn_hardness.datasets.load_press_videos`) or a Bunch
-        with ``videos``, ``target`` and optionally ``hardness``.
+        with ``videos``, ``target`` and optionally ``hardness`` and
+        ``object_id``.
     preset : {"silicone5", "shore9"} or None, default=None
         Whose hyperparameters to use (:func:`get_config`); None: the
-        dataset's preset, or ``"silicone5"`` for other datasets.
+        dataset's preset, or ``"silicone5"`` (the ConvLSTM, robot presses)
+        for other datasets, ``"everyday"`` and manifests included.
     model : {"convlstm", "ofnn", "dinov2nn"}, estimator or None, default=None
         None: the preset's model (ConvLSTM for ``silicone5``, DINOv2NN for
         ``shore9``). An estimator (a classifier with
@@ -273,7 +445,12 @@ def run_active_sampling(
     n_runs : int or None, default=None
         Seeds per test object (the preset's ``n_runs`` if None).
     test_classes : sequence of int or None, default=None
-        Which classes serve as test object (all if None).
+        Which classes serve as test object (all if None); with many objects
+        per class, the classes whose objects serve as test objects.
+    test_objects : sequence of str or None, default=None
+        Object ids that serve as test objects, one pair per (object, seed)
+        (None: every object of a class with at least two objects). Only for
+        datasets with several objects per class.
     seeds : sequence of int or None, default=None
         Explicit seeds (default ``range(n_runs)``).
     quick : bool, default=False
@@ -305,7 +482,8 @@ def run_active_sampling(
     -------
     result : ExperimentResult
         ``result.records``: one dict per run with ``key`` (``experiment``,
-        ``strategy``, ``test_class``, ``seed``, ``config``), ``converged``,
+        ``strategy``, ``test_class``, with many objects per class also
+        ``test_object``, ``seed``, ``config``), ``converged``,
         ``initial_train_loss``, and per iteration 0..N ``accuracy``, ``mae``,
         ``entropy``, ``variance``, ``bald`` (class means) and their
         ``*_per_class`` values, ``predictions``, and with ``n_holdout``
@@ -313,7 +491,10 @@ def run_active_sampling(
         ``holdout_mae`` on them (every reference object); per query ``queried`` (class
         index), ``train_loss`` and ``reservoir_size``; ``epochs`` trained (the initial
         training, then each query; below the configured counts when ``early_stopping``
-        stopped a training call); and provenance
+        stopped a training call); with many objects per class
+        ``test_object``, ``initial_objects`` (object of each initial press),
+        ``drawn_objects`` (per query, the object of each press) and
+        ``n_repeated_presses``; and provenance
         (``wall_time``, ``finished_at``, ``pid``, ``host``). See
         :func:`comparison_table` and :func:`plot_active_sampling`.
 
@@ -338,49 +519,52 @@ def run_active_sampling(
     # the ConvLSTM's input scale is fitted per run on its training presses (_input_scale)
     inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose, scale=False, n_jobs=n_jobs)
     n_classes = inputs.n_classes
-    test_classes = list(range(n_classes)) if test_classes is None else _check_int_list(
-        test_classes, "test_classes", set(range(n_classes)))
     seeds = list(range(cfg["n_runs"])) if seeds is None else _check_int_list(seeds, "seeds")
 
-    counts = np.bincount(inputs.y, minlength=n_classes)
-    worst = cfg["n_initial"] + cfg["n_iterations"] * cfg["n_per_query"]
-    for c in range(n_classes):
-        need = worst + cfg["n_holdout"] + (cfg["n_test"] if c in test_classes else 0)
-        if counts[c] < need:
-            raise ValueError(
-                f"class {c} ({inputs.target_names[c]}) has {counts[c]} presses, but a run may need "
-                f"{need}: n_initial={cfg['n_initial']} + n_iterations={cfg['n_iterations']} x "
-                f"n_per_query={cfg['n_per_query']}"
-                + (f" + n_holdout={cfg['n_holdout']}" if cfg["n_holdout"] else "") + (f" + n_test={cfg['n_test']}" if c in test_classes else "")
-                + ". Use fewer iterations or presses, or a larger dataset."
-            )
-    chash = config_hash(dict(cfg, data=inputs.data_id, n_runs=None))  # n_runs picks seeds only
+    by_object = _has_objects(inputs.object_id, inputs.y)
+    if test_objects is not None and not by_object:
+        raise ValueError("test_objects needs a dataset with object ids and several objects per class "
+                         "(e.g. 'everyday' or a manifest with an object_id column).")
+    if by_object:
+        pairs = _object_pairs(inputs, cfg, test_classes, test_objects, seeds)
+        # hashed only for this protocol: class-level results keep their hash
+        chash = config_hash(dict(cfg, data=inputs.data_id, n_runs=None, protocol="object-disjoint",
+                                 objects=joblib.hash(inputs.object_id.astype(str).tolist())))
+    else:
+        test_classes = list(range(n_classes)) if test_classes is None else _check_int_list(
+            test_classes, "test_classes", set(range(n_classes)))
+        _check_class_counts(inputs, cfg, test_classes)
+        pairs = [(tc, None, seed) for tc in test_classes for seed in seeds]
+        chash = config_hash(dict(cfg, data=inputs.data_id, n_runs=None))  # n_runs picks seeds only
     tasks, groups = [], []
-    for tc in test_classes:
-        for seed in seeds:
-            keys = []
-            for strat, name in zip(strategies, names):
-                key = {"experiment": "active_sampling", "strategy": name, "test_class": tc,
-                       "seed": seed, "config": chash}
-                tasks.append({"strategy": strat, "test_class": tc, "seed": seed, "key": key})
-                keys.append(key)
-            # one task per (test object, seed): the paired strategies share the initial training
-            groups.append({"strategies": list(strategies), "test_class": tc, "seed": seed, "keys": keys})
+    for tc, obj, seed in pairs:
+        keys = []
+        extra = {} if obj is None else {"test_object": obj}
+        for strat, name in zip(strategies, names):
+            key = {"experiment": "active_sampling", "strategy": name, "test_class": tc, **extra,
+                   "seed": seed, "config": chash}
+            tasks.append({"strategy": strat, "test_class": tc, "seed": seed, "key": key})
+            keys.append(key)
+        # one task per (test object, seed): the paired strategies share the initial training
+        groups.append({"strategies": list(strategies), "test_class": tc, "seed": seed, "keys": keys, **extra})
     common = {"X": inputs.X, "y": inputs.y, "hardness": inputs.hardness, "cfg": cfg,
               "model": model, "n_classes": n_classes,
               "target_names": [str(n) for n in inputs.target_names]}
+    if by_object:
+        common["groups"] = inputs.object_id.astype(str)
     store = ResultsStore(results_path)
     run_tasks(_active_pair, groups, common, store, n_jobs=n_jobs, verbose=verbose, desc="active sampling",
               group_field="strategies")
-    wanted = {(t["key"]["strategy"], t["test_class"], t["seed"]) for t in tasks}
-    records = [
-        r for r in store.records
-        if r["key"].get("experiment") == "active_sampling" and r["key"].get("config") == chash
-        and (r["key"]["strategy"], r["key"]["test_class"], r["key"]["seed"]) in wanted
-    ]
-    order = {k: i for i, k in enumerate((t["key"]["strategy"], t["test_class"], t["seed"]) for t in tasks)}
-    records.sort(key=lambda r: order[(r["key"]["strategy"], r["key"]["test_class"], r["key"]["seed"])])
+
+    def run_id(key):
+        return key["strategy"], key["test_class"], key.get("test_object"), key["seed"]
+
+    order = {run_id(t["key"]): i for i, t in enumerate(tasks)}
+    records = [r for r in store.records if r["key"].get("experiment") == "active_sampling"
+               and r["key"].get("config") == chash and run_id(r["key"]) in order]
+    records.sort(key=lambda r: order[run_id(r["key"])])
     cfg = dict(cfg, target_names=[str(n) for n in inputs.target_names],
                hardness=None if inputs.hardness is None else inputs.hardness.tolist(),
-               hardness_unit=inputs.hardness_unit, strategies=names, config_hash=chash)
+               hardness_unit=inputs.hardness_unit, strategies=names, config_hash=chash,
+               dataset=_dataset_name(dataset), protocol="object-disjoint" if by_object else "class")
     return ExperimentResult(records, config=cfg, path=None if results_path is None else str(results_path))

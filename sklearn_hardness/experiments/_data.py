@@ -25,7 +25,7 @@ from ._config import MODEL_INPUTS, MODEL_NAMES, _input_name
 
 __all__ = ["load_dataset", "prepare_inputs", "make_estimator"]
 
-_SIM_PRESETS = ("silicone5", "shore9")
+_SIM_PRESETS = ("silicone5", "shore9", "everyday")
 _MEMO = {}  # in-process cache of prepared inputs (a few small arrays)
 _MEMO_MAX = 4
 
@@ -50,7 +50,7 @@ def load_dataset(dataset, cfg):
     """The dataset as a Bunch (``videos``, ``target``, ``hardness``, ...).
 
     ``dataset`` is a simulator preset name (``"silicone5"``, ``"shore9"``,
-    simulated with ``cfg["image_size"]`` and ``cfg["data_seed"]``), the path
+    ``"everyday"``, simulated with ``cfg["image_size"]`` and ``cfg["data_seed"]``), the path
     of a manifest CSV (:func:`~sklearn_hardness.datasets.load_press_videos`)
     or a Bunch with at least ``videos`` and ``target``.
     """
@@ -65,7 +65,7 @@ def load_dataset(dataset, cfg):
         return load_press_videos(spec[1])
     if not (hasattr(dataset, "videos") or hasattr(dataset, "get")) :
         raise TypeError(
-            "dataset must be a preset name ('silicone5', 'shore9'), a manifest CSV path or a "
+            "dataset must be a preset name ('silicone5', 'shore9', 'everyday'), a manifest CSV path or a "
             f"Bunch with 'videos' and 'target', got {type(dataset).__name__}."
         )
     for field in ("videos", "target"):
@@ -247,7 +247,8 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True, n
     -------
     inputs : Bunch
         ``X`` (one row per press), ``y`` (class index), ``target_names``,
-        ``hardness`` (per class, or None), ``hardness_unit``, ``n_classes``.
+        ``hardness`` (per class, or None), ``hardness_unit``, ``n_classes``,
+        ``object_id`` (the physical object of each press, or None).
     """
     if isinstance(model, str) and model not in MODEL_NAMES:
         raise ValueError(f"unknown model {model!r}; choose one of {list(MODEL_NAMES)} or pass an estimator.")
@@ -274,7 +275,7 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True, n
             else:
                 X, y = _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs)
             data = load_dataset(dataset, cfg)  # lazy videos: metadata only
-            data = {k: data.get(k) for k in ("target_names", "hardness", "hardness_unit")}
+            data = {k: data.get(k) for k in ("target_names", "hardness", "hardness_unit", "object_id")}
             _MEMO[memo_key] = (X, y, data)
             while len(_MEMO) > _MEMO_MAX:
                 _MEMO.pop(next(iter(_MEMO)))
@@ -299,9 +300,12 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True, n
     if hardness is not None and hardness.shape[0] != n_classes:
         raise ValueError(f"the dataset gives {hardness.shape[0]} hardness values for {n_classes} classes.")
     data_id = list(spec) if spec is not None else joblib.hash((X, y))
+    object_id = None if data is None or data.get("object_id") is None else np.asarray(data.get("object_id"))
+    if object_id is not None and object_id.shape != y.shape:
+        raise ValueError(f"the dataset has {object_id.shape[0]} object ids for {y.shape[0]} presses.")
     return Bunch(X=X, y=y, target_names=names, hardness=hardness, hardness_unit=unit,
                  n_classes=n_classes, model=model if isinstance(model, str) else "custom",
-                 data_id=data_id)
+                 data_id=data_id, object_id=object_id)
 
 
 class _EarlyStoppingAfterFirst(EarlyStopping):

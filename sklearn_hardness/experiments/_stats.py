@@ -16,20 +16,31 @@ from ._tables import render_columns
 __all__ = ["paired_table", "format_paired_table", "PAIRED_METRICS", "decision_stop", "presses_to_reach",
            "format_presses_to_reach"]
 
-#: Metrics of :func:`paired_table`: (name, record field, reduction, higher is better).
-#: ``auc`` is the mean of the accuracy over iterations 0..N (trapezoid rule,
-#: normalised to [0, 1]): a strategy that gets there sooner scores higher.
-#: ``presses_at_stop`` and ``accuracy_at_stop`` are the reference presses used
-#: and the test accuracy when :func:`decision_stop` (its defaults) ends the run.
+#: Metrics of :func:`paired_table`: (name, record field, reduction, higher is better),
+#: in the order a robot user reads them: first the reference presses used and the
+#: test accuracy when :func:`decision_stop` (its defaults) ends the run
+#: (``presses_at_stop``, ``accuracy_at_stop``), then the accuracy on the test
+#: object's presses and on held-out presses of other objects after the press budget,
+#: then ``auc`` (the mean of the accuracy over iterations 0..N, trapezoid rule,
+#: normalised to [0, 1]: a strategy that gets there sooner scores higher) and the MAEs.
 PAIRED_METRICS = (
-    ("accuracy", "accuracy", "final", True),
-    ("mae", "mae", "final", False),
-    ("auc", "accuracy", "auc", True),
-    ("holdout_accuracy", "holdout_accuracy", "final", True),
-    ("holdout_mae", "holdout_mae", "final", False),
     ("presses_at_stop", "predictions", "stop_presses", False),
     ("accuracy_at_stop", "predictions", "stop_accuracy", True),
+    ("accuracy", "accuracy", "final", True),
+    ("holdout_accuracy", "holdout_accuracy", "final", True),
+    ("auc", "accuracy", "auc", True),
+    ("mae", "mae", "final", False),
+    ("holdout_mae", "holdout_mae", "final", False),
 )
+
+
+def _pair_id(record):
+    """The (test class, test object, seed) a run belongs to; its paired runs share it.
+
+    ``test_object`` is None for runs whose test object is a class (one object per class).
+    """
+    key = record["key"]
+    return key["test_class"], key.get("test_object"), key["seed"]
 
 
 def decision_stop(record, *, threshold=0.8, patience=2):
@@ -177,7 +188,7 @@ def paired_table(result, reference="random", metrics=None, level=0.95):
     strategies = list(dict.fromkeys(r["key"]["strategy"] for r in records))
     if reference not in strategies:
         raise ValueError(f"the reference strategy {reference!r} is not in the result ({strategies}).")
-    by = {(r["key"]["strategy"], r["key"]["test_class"], r["key"]["seed"]): r
+    by = {(r["key"]["strategy"],) + _pair_id(r): r
           for r in records if r.get("converged", True)}
     rows = []
     for s in strategies:
@@ -297,7 +308,7 @@ def presses_to_reach(result, reference="random", *, n_boot=2000, level=0.95, ran
     strategies = list(dict.fromkeys(r["key"]["strategy"] for r in records))
     if reference not in strategies:
         raise ValueError(f"the reference strategy {reference!r} is not in the result ({strategies}).")
-    by = {(r["key"]["strategy"], r["key"]["test_class"], r["key"]["seed"]): r
+    by = {(r["key"]["strategy"],) + _pair_id(r): r
           for r in records if r.get("converged", True)}
     length = max(len(r["accuracy"]) for r in by.values()) if by else 0
     rng = np.random.default_rng(random_state)

@@ -49,7 +49,7 @@ def comparison_table(result, iteration=-1, human=True):
         raise ValueError("the result has no active-sampling runs.")
     seen = {}
     for r in records:
-        seen.setdefault((r["key"]["test_class"], r["key"]["seed"]), r)
+        seen.setdefault((r["key"]["test_class"], r["key"].get("test_object"), r["key"]["seed"]), r)
     base = list(seen.values())
     conv = [r for r in base if r.get("converged", True)]
     acc, acc_sd = _mean_std(r["accuracy"][0] for r in conv)

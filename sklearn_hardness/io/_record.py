@@ -9,7 +9,7 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-from sklearn.utils._param_validation import Interval, validate_params
+from sklearn.utils._param_validation import HasMethods, Interval, validate_params
 
 from ._video import _to_rgb, write_video
 
@@ -38,7 +38,8 @@ def _open_capture(source):
 
 @validate_params(
     {
-        "source": [Interval(numbers.Integral, 0, None, closed="left"), str, os.PathLike],
+        "source": [Interval(numbers.Integral, 0, None, closed="left"), str, os.PathLike,
+                   HasMethods(["read", "isOpened"])],
         "n_frames": [Interval(numbers.Integral, 1, None, closed="left"), None],
         "duration": [Interval(numbers.Real, 0, None, closed="neither"), None],
         "fps": [Interval(numbers.Real, 0, None, closed="neither"), None],
@@ -56,9 +57,13 @@ def record_video(source, *, n_frames=None, duration=None, fps=None, size=None, p
 
     Parameters
     ----------
-    source : int, str or path-like
+    source : int, str, path-like or capture object
         A camera's device index (``0`` is the first camera; a GelSight Mini
-        is a UVC camera), a video file, or a stream URL (``rtsp://...``).
+        is a UVC camera), a video file, a stream URL (``rtsp://...``), or an
+        opened capture object with ``read()`` and ``isOpened()`` (a
+        :class:`cv2.VideoCapture` you keep open between presses, or a
+        :class:`~sklearn_hardness.datasets.SimulatedSensor`); such an object
+        is read from and left open.
     n_frames : int or None, default=None
         Frames to record. Give this or ``duration``.
     duration : float or None, default=None
@@ -115,7 +120,10 @@ def record_video(source, *, n_frames=None, duration=None, fps=None, size=None, p
                                   for v in size)
     ):
         raise ValueError(f"size must be None or (height, width) with ints >= 2, got {size!r}.")
-    cap = _open_capture(source)
+    owned = not hasattr(source, "read")
+    cap = _open_capture(source) if owned else source
+    if not owned and not cap.isOpened():
+        raise OSError(f"The capture object {source!r} is not opened.")
     try:
         if fps is not None:
             cap.set(cv2.CAP_PROP_FPS, float(fps))
@@ -137,7 +145,8 @@ def record_video(source, *, n_frames=None, duration=None, fps=None, size=None, p
                 frame = cv2.resize(frame, (int(size[1]), int(size[0])), interpolation=cv2.INTER_AREA)
             frames.append(frame)
     finally:
-        cap.release()
+        if owned:
+            cap.release()
     if not frames:
         raise ValueError(f"Capture source {source!r} gave no frames (after {warmup} warm-up frames).")
     if len(frames) < n:
