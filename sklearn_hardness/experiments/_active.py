@@ -9,11 +9,11 @@ import warnings
 import numpy as np
 
 from ._config import check_config, config_hash, get_config
-from ._data import describe_model, make_estimator, prepare_inputs
+from ._data import _dataset_spec, describe_model, make_estimator, prepare_inputs
 from ._results import ExperimentResult, ResultsStore
 from ._runner import run_tasks
 
-__all__ = ["run_active_sampling", "STRATEGIES"]
+__all__ = ["run_active_sampling", "planned_config_hash", "STRATEGIES"]
 
 #: The strategies compared by default (BALD is our addition to the paper's three).
 STRATEGIES = ("variance", "entropy", "random", "bald")
@@ -212,6 +212,52 @@ def _check_int_list(values, name, allowed=None):
     return out
 
 
+def _run_config(dataset, preset, model, n_runs, quick, config):
+    """The checked configuration of :func:`run_active_sampling` (what it hashes, with the data's id)."""
+    if preset is None:
+        preset = dataset if isinstance(dataset, str) and dataset in ("silicone5", "shore9") else "silicone5"
+    if n_runs is not None:
+        config = dict(config, n_runs=n_runs)
+    cfg = get_config(preset, quick=quick, **config)
+    model = cfg["model"] if model is None else model
+    cfg["model"] = describe_model(model)
+    check_config(cfg)
+    return cfg, model
+
+
+def planned_config_hash(dataset="silicone5", *, preset=None, model=None, n_runs=None, quick=False, **config):
+    """The configuration hash :func:`run_active_sampling` gives these arguments, without running.
+
+    It keys the runs in a results file and is written into the provenance of
+    the tables made from them (:func:`provenance_header`), so a test can tell
+    whether a table's configuration is still what the code computes.
+
+    Parameters
+    ----------
+    dataset : str or path-like, default="silicone5"
+        A simulator preset or a manifest CSV path (as in :func:`run_active_sampling`;
+        an in-memory Bunch has no hash before its inputs are computed).
+    preset, model, n_runs, quick, **config
+        As in :func:`run_active_sampling`.
+
+    Returns
+    -------
+    config_hash : str
+        The hash stored in the records' ``key["config"]``.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.experiments import planned_config_hash
+    >>> len(planned_config_hash("silicone5", quick=True))
+    12
+    """
+    cfg, _ = _run_config(dataset, preset, model, n_runs, quick, config)
+    spec = _dataset_spec(dataset, cfg)
+    if spec is None:
+        raise ValueError("dataset must be a simulator preset or a manifest CSV path to hash it before a run.")
+    return config_hash(dict(cfg, data=list(spec), n_runs=None))
+
+
 def run_active_sampling(
     dataset="silicone5",
     *,
@@ -326,14 +372,7 @@ def run_active_sampling(
                                   results_path="runs.jsonl")
         print(format_table(comparison_table(res)))
     """
-    if preset is None:
-        preset = dataset if isinstance(dataset, str) and dataset in ("silicone5", "shore9") else "silicone5"
-    if n_runs is not None:
-        config["n_runs"] = n_runs
-    cfg = get_config(preset, quick=quick, **config)
-    model = cfg["model"] if model is None else model
-    cfg["model"] = describe_model(model)
-    check_config(cfg)
+    cfg, model = _run_config(dataset, preset, model, n_runs, quick, config)
     strategies, names = _check_strategies(strategies)
     # the ConvLSTM's input scale is fitted per run on its training presses (_input_scale)
     inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose, scale=False, n_jobs=n_jobs)
