@@ -142,9 +142,15 @@ def machine_reference(matmul=True):
     -------
     machine : dict
         ``cpu`` (model name), ``cores`` (``os.cpu_count()``), ``torch_threads``,
-        ``torch``, ``numpy`` (versions) and ``matmul_gflops`` (one thread,
-        float32, 2048^3; None without ``matmul``).
+        ``torch``, ``numpy`` (versions), ``matmul_gflops`` (one thread,
+        float32, 2048^3; None without ``matmul``) and ``load`` (the 1-minute
+        load average when measured, None where the system does not give it:
+        a rate measured on a busy machine is lower).
     """
+    try:
+        load = round(os.getloadavg()[0], 1)
+    except (AttributeError, OSError):
+        load = None
     return {
         "cpu": _cpu_model(),
         "cores": os.cpu_count(),
@@ -152,6 +158,7 @@ def machine_reference(matmul=True):
         "torch": torch.__version__,
         "numpy": np.__version__,
         "matmul_gflops": round(matmul_gflops(), 1) if matmul else None,
+        "load": load,
     }
 
 
