@@ -4,7 +4,8 @@ Counts the floating-point operations of one training step (forward, backward,
 Adam update excluded) of ``ConvLSTMNet`` with ``torch.utils.flop_counter`` and
 times the step; divides one by the other and compares the result with the
 rate of a large float32 matrix product on the same threads (the practical
-peak of these cores). Printed per input size: batch, GFLOP per step, ms per
+peak of these cores; ``experiments.matmul_gflops``, whose one-thread figure
+the provenance of generated tables records). Printed per input size: batch, GFLOP per step, ms per
 step (median of ``--repeat``), achieved GFLOP/s and its share of the
 matrix-product peak; and the same for 50 MC-dropout passes over 5 test
 presses as ``predict_proba_samples`` runs them (the recurrent stack once,
@@ -22,6 +23,7 @@ import numpy as np
 import torch
 from torch.utils.flop_counter import FlopCounterMode
 
+from sklearn_hardness.experiments import matmul_gflops
 from sklearn_hardness.models import ConvLSTMNet
 
 
@@ -42,12 +44,6 @@ def count_flops(fn):
     return counter.get_total_flops()
 
 
-def matmul_peak(n, repeat):
-    a, b = torch.randn(n, n), torch.randn(n, n)
-    t = median_time(lambda: a @ b, repeat)
-    return 2 * n**3 / t
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--threads", type=int, default=1)
@@ -59,7 +55,7 @@ def main():
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
     torch.manual_seed(0)
-    peak = matmul_peak(args.matmul, args.repeat)
+    peak = matmul_gflops(args.matmul, args.repeat, threads=None) * 1e9  # the provenance's reference too
     print(f"torch {torch.__version__}, {args.threads} thread(s), "
           f"LD_PRELOAD={os.environ.get('LD_PRELOAD', '') or '-'}")
     print(f"float32 matmul {args.matmul}^3: {peak / 1e9:.1f} GFLOP/s (the reference peak)")

@@ -7,6 +7,8 @@ registered in :data:`_SUBCOMMANDS`.
 from __future__ import annotations
 
 import argparse
+import json
+import shlex
 import sys
 
 from . import __version__
@@ -185,16 +187,23 @@ def _quick_help():
 
 _README_START = "<!-- reproduce-quick-table: start -->"
 _README_END = "<!-- reproduce-quick-table: end -->"
+_README_PROVENANCE = ("command", "config_hash", "code_fingerprint")
 
 
-def _write_readme_table(path, table):
-    """Replace the block between the README markers by ``table`` (in a code fence)."""
+def _write_readme_table(path, table, provenance=None):
+    """Replace the block between the README markers by ``table`` (in a code fence).
+
+    ``provenance`` (a dict: command, config hash, code fingerprint) goes on an HTML
+    comment line above the fence; machine and date stay out, so rerunning unchanged
+    code with the same table leaves the file alone.
+    """
     with open(path) as f:
         text = f.read()
     start, end = text.find(_README_START), text.find(_README_END)
     if start < 0 or end < start:
         raise SystemExit(f"{path} has no '{_README_START}' ... '{_README_END}' block to write the table into.")
-    new = text[: start + len(_README_START)] + "\n```\n" + table + "\n```\n" + text[end:]
+    comment = f"\n<!-- provenance {json.dumps(provenance)} -->" if provenance else ""
+    new = text[: start + len(_README_START)] + comment + "\n```\n" + table + "\n```\n" + text[end:]
     if new != text:
         with open(path, "w") as f:
             f.write(new)
@@ -288,8 +297,43 @@ def _parse_set(items):
     return out
 
 
+def _reproduce_config(args):
+    config = _parse_set(args.set)
+    if args.epochs:
+        config["initial_epochs"], config["epochs_per_query"] = args.epochs
+    return config
+
+
+_NOT_RESULTS = {"--out": 1, "--readme": 1, "--quiet": 0}  # options that do not change a table
+
+
+def _reproduce_command(argv):
+    """The command as a user would type it, less where its output goes."""
+    kept, skip = [], 0
+    for a in argv:
+        if skip:
+            skip -= 1
+        elif a.split("=", 1)[0] in _NOT_RESULTS:
+            skip = 0 if "=" in a else _NOT_RESULTS[a]
+        else:
+            kept.append(a)
+    return shlex.join(["sklearn-hardness", *kept])
+
+
+def _reproduce_config_hash(args):
+    """The config hash of a ``reproduce --protocol active`` command (None for the whole protocol)."""
+    from .experiments import planned_config_hash
+
+    if args.protocol != "active":
+        return None
+    config = _reproduce_config(args)
+    if args.dinov2_model:
+        config["dinov2_model"] = args.dinov2_model
+    return planned_config_hash(args.dataset or args.preset, preset=args.preset, model=args.model,
+                               n_runs=args.n_runs, quick=args.quick, **config)
+
+
 def _run_reproduce(args):
-    import json
     import os
     import time
 
@@ -299,14 +343,14 @@ def _run_reproduce(args):
         format_presses_to_reach,
         format_table,
         paired_table,
+        parse_provenance,
         presses_to_reach,
+        provenance_header,
         run_active_sampling,
         save_figures,
     )
 
-    config = _parse_set(args.set)
-    if args.epochs:
-        config["initial_epochs"], config["epochs_per_query"] = args.epochs
+    config = _reproduce_config(args)
     if args.protocol == "paper":
         return _run_paper_protocol(args, config)
     if args.dinov2_model:
@@ -354,8 +398,10 @@ def _run_reproduce(args):
     print(header)
     print(table)
     print(note)
+    command = _reproduce_command(getattr(args, "argv", None) or sys.argv[1:])
+    provenance = provenance_header(command, config_hash=cfg["config_hash"])
     with open(os.path.join(args.out, "table.txt"), "w") as f:
-        f.write(header + "\n" + table + "\n" + note + "\n")
+        f.write(provenance + "\n" + header + "\n" + table + "\n" + note + "\n")
     if "random" in cfg["strategies"] and len(cfg["strategies"]) > 1:
         # strategies on the same (test object, seed) pairs, against random; what a robot user
         # wants first: presses to reach random's accuracy, then presses and accuracy at the stop
@@ -372,9 +418,10 @@ def _run_reproduce(args):
         )
         print(paired)
         with open(os.path.join(args.out, "paired.txt"), "w") as f:
-            f.write(header + "\n" + paired + "\n")
+            f.write(provenance + "\n" + header + "\n" + paired + "\n")
     if args.readme:
-        changed = _write_readme_table(args.readme, table)
+        record = parse_provenance(provenance)
+        changed = _write_readme_table(args.readme, table, {k: record[k] for k in _README_PROVENANCE})
         print(f"{'updated' if changed else 'unchanged'}: the table in {args.readme}")
     with open(os.path.join(args.out, "config.json"), "w") as f:
         json.dump({k: v for k, v in cfg.items()}, f, indent=2, default=repr)
@@ -577,6 +624,7 @@ def main(argv=None):
     """Entry point of the ``sklearn-hardness`` console script."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)  # for the provenance of what it writes
     if args.command is None:
         parser.print_help()
         return 2

@@ -5,7 +5,8 @@ import os
 import numpy as np
 import pytest
 
-from sklearn_hardness._cli import main
+from sklearn_hardness._cli import _reproduce_config_hash, build_parser, main
+from sklearn_hardness.experiments import parse_provenance
 from sklearn_hardness.io import write_video
 
 from ._exp_data import tiny_presses
@@ -43,6 +44,10 @@ def test_reproduce_on_a_manifest(manifest, tmp_path, capsys):
             "entropy.png", "variance.png"} <= files
     paired = (out / "paired.txt").read_text()
     assert "- random [95% CI]" in paired and "presses_at_stop" in paired and "variance" in paired
+    # both tables start with their provenance; the config hash is the one planned from the command
+    record = parse_provenance((out / "table.txt").read_text())
+    assert parse_provenance(paired) == record and record["command"].startswith("sklearn-hardness reproduce --dataset")
+    assert record["config_hash"] == _reproduce_config_hash(build_parser().parse_args(args))
     lines = (out / "results.jsonl").read_text().splitlines()
     assert len(lines) == 2 * 5  # strategies x test objects x 1 seed
     cfg = json.loads((out / "config.json").read_text())

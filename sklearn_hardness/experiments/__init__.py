@@ -15,9 +15,11 @@
   :func:`plot_dropout_sweep`, :func:`plot_model_baselines`,
   :func:`save_figures`: the paper's figures (matplotlib, PNG).
 - :func:`get_config`: the paper's hyperparameters per preset.
+- :func:`provenance_header`, :func:`code_fingerprint`, :func:`machine_reference`:
+  what made a generated table (command, config hash, code, machine).
 """
 
-from ._active import STRATEGIES, run_active_sampling
+from ._active import STRATEGIES, planned_config_hash, run_active_sampling
 from ._baselines import run_dropout_sweep, run_model_baselines
 from ._evaluate import evaluate_pipelines, format_evaluation, make_peak_change_baseline, peak_contact_change, plot_confusion_matrices  # noqa: E501
 from ._plotting import (
@@ -37,6 +39,7 @@ from ._stats import (
 )
 from ._tables import HUMAN_ACCURACY, baseline_table, comparison_table, format_table
 from ._config import MODEL_NAMES, PRESET_CONFIGS, QUICK_OVERRIDES, config_hash, get_config
+from ._provenance import code_fingerprint, machine_reference, matmul_gflops, parse_provenance, provenance_header
 from ._results import ExperimentResult, ResultsStore
 
 __all__ = [
@@ -62,6 +65,12 @@ __all__ = [
     "STRATEGIES",
     "get_config",
     "config_hash",
+    "planned_config_hash",
+    "code_fingerprint",
+    "machine_reference",
+    "matmul_gflops",
+    "provenance_header",
+    "parse_provenance",
     "PRESET_CONFIGS",
     "QUICK_OVERRIDES",
     "MODEL_NAMES",

@@ -11,11 +11,11 @@ import joblib
 import numpy as np
 
 from ._config import check_config, config_hash, get_config
-from ._data import describe_model, make_estimator, prepare_inputs
+from ._data import _dataset_spec, describe_model, load_dataset, make_estimator, prepare_inputs
 from ._results import ExperimentResult, ResultsStore
 from ._runner import run_tasks
 
-__all__ = ["run_active_sampling", "STRATEGIES"]
+__all__ = ["run_active_sampling", "planned_config_hash", "STRATEGIES"]
 
 #: The strategies compared by default (BALD is our addition to the paper's three).
 STRATEGIES = ("variance", "entropy", "random", "bald")
@@ -359,6 +359,67 @@ def _dataset_name(dataset):
     return "a Bunch"
 
 
+def _run_config(dataset, preset, model, n_runs, quick, config):
+    """The checked configuration of :func:`run_active_sampling` (what it hashes, with the data's id)."""
+    if preset is None:
+        preset = dataset if isinstance(dataset, str) and dataset in ("silicone5", "shore9") else "silicone5"
+    if n_runs is not None:
+        config = dict(config, n_runs=n_runs)
+    cfg = get_config(preset, quick=quick, **config)
+    model = cfg["model"] if model is None else model
+    cfg["model"] = describe_model(model)
+    check_config(cfg)
+    return cfg, model
+
+
+def planned_config_hash(dataset="silicone5", *, preset=None, model=None, n_runs=None, quick=False, **config):
+    """The configuration hash :func:`run_active_sampling` gives these arguments, without running.
+
+    It keys the runs in a results file and is written into the provenance of
+    the tables made from them (:func:`provenance_header`), so a test can tell
+    whether a table's configuration is still what the code computes.
+
+    Parameters
+    ----------
+    dataset : str or path-like, default="silicone5"
+        A simulator preset or a manifest CSV path (as in :func:`run_active_sampling`;
+        an in-memory Bunch has no hash before its inputs are computed).
+    preset, model, n_runs, quick, **config
+        As in :func:`run_active_sampling`.
+
+    Returns
+    -------
+    config_hash : str
+        The hash stored in the records' ``key["config"]``.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.experiments import planned_config_hash
+    >>> len(planned_config_hash("silicone5", quick=True))
+    12
+    """
+    cfg, _ = _run_config(dataset, preset, model, n_runs, quick, config)
+    spec = _dataset_spec(dataset, cfg)
+    if spec is None:
+        raise ValueError("dataset must be a simulator preset or a manifest CSV path to hash it before a run.")
+    data = load_dataset(dataset, cfg)  # lazy videos: labels and object ids only
+    object_id = data.get("object_id")
+    object_id = None if object_id is None else np.asarray(object_id)
+    return _results_hash(cfg, list(spec), object_id, np.asarray(data["target"]))
+
+
+def _results_hash(cfg, data_id, object_id, y):
+    """The config hash that keys a run's records: object-disjoint runs also hash the protocol and objects.
+
+    Class-level results (no object ids, or one object per class) keep the hash they had
+    before the object-disjoint protocol existed.
+    """
+    if _has_objects(object_id, y):
+        return config_hash(dict(cfg, data=data_id, n_runs=None, protocol="object-disjoint",
+                                objects=joblib.hash(object_id.astype(str).tolist())))
+    return config_hash(dict(cfg, data=data_id, n_runs=None))  # n_runs picks seeds only
+
+
 def run_active_sampling(
     dataset="silicone5",
     *,
@@ -507,14 +568,7 @@ def run_active_sampling(
                                   results_path="runs.jsonl")
         print(format_table(comparison_table(res)))
     """
-    if preset is None:
-        preset = dataset if isinstance(dataset, str) and dataset in ("silicone5", "shore9") else "silicone5"
-    if n_runs is not None:
-        config["n_runs"] = n_runs
-    cfg = get_config(preset, quick=quick, **config)
-    model = cfg["model"] if model is None else model
-    cfg["model"] = describe_model(model)
-    check_config(cfg)
+    cfg, model = _run_config(dataset, preset, model, n_runs, quick, config)
     strategies, names = _check_strategies(strategies)
     # the ConvLSTM's input scale is fitted per run on its training presses (_input_scale)
     inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose, scale=False, n_jobs=n_jobs)
@@ -527,15 +581,12 @@ def run_active_sampling(
                          "(e.g. 'everyday' or a manifest with an object_id column).")
     if by_object:
         pairs = _object_pairs(inputs, cfg, test_classes, test_objects, seeds)
-        # hashed only for this protocol: class-level results keep their hash
-        chash = config_hash(dict(cfg, data=inputs.data_id, n_runs=None, protocol="object-disjoint",
-                                 objects=joblib.hash(inputs.object_id.astype(str).tolist())))
     else:
         test_classes = list(range(n_classes)) if test_classes is None else _check_int_list(
             test_classes, "test_classes", set(range(n_classes)))
         _check_class_counts(inputs, cfg, test_classes)
         pairs = [(tc, None, seed) for tc in test_classes for seed in seeds]
-        chash = config_hash(dict(cfg, data=inputs.data_id, n_runs=None))  # n_runs picks seeds only
+    chash = _results_hash(cfg, inputs.data_id, inputs.object_id, inputs.y)
     tasks, groups = [], []
     for tc, obj, seed in pairs:
         keys = []
