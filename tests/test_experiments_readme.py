@@ -9,7 +9,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def test_readme_table_block_is_replaced_in_place(tmp_path):
-    from sklearn_hardness._cli import _README_END, _README_START, _write_readme_table
+    from sklearn_hardness._cli import _README_END, _README_START, _UsageError, _write_readme_table
 
     path = tmp_path / "R.md"
     path.write_text(f"intro\n{_README_START}\nold\n{_README_END}\nafter\n")
@@ -17,7 +17,7 @@ def test_readme_table_block_is_replaced_in_place(tmp_path):
     assert path.read_text() == f"intro\n{_README_START}\n```\na  b\n-  -\n```\n{_README_END}\nafter\n"
     assert not _write_readme_table(path, "a  b\n-  -")  # idempotent
     path.write_text("no markers")
-    with pytest.raises(SystemExit, match="no"):
+    with pytest.raises(_UsageError, match="no"):
         _write_readme_table(path, "x")
 
 
