@@ -371,3 +371,29 @@ def test_results_record_with_a_malformed_key_names_the_line(tmp_path):
     with pytest.raises(ValueError, match="line 2 is a record whose 'key' is a list"):
         ResultsStore(results)
     assert results.read_text() == text
+
+
+def test_scikit_learn_private_validation_api_is_pinned_and_present():
+    """Policy: the constraint classes come from scikit-learn's private ``_param_validation``, so the
+    dependency has an upper bound below the next untested minor release, and every name we import
+    from it exists in the installed scikit-learn with the behaviour we rely on."""
+    import ast
+    import pathlib
+    import re
+
+    import sklearn
+    import sklearn.utils._param_validation as pv
+    from packaging.specifiers import SpecifierSet  # a dependency of pytest
+
+    root = pathlib.Path(__file__).resolve().parents[1]
+    spec = SpecifierSet(re.search(r'"scikit-learn([^"]*)"', (root / "pyproject.toml").read_text()).group(1))
+    assert any(s.operator == "<" for s in spec), "scikit-learn needs an upper bound"
+    assert sklearn.__version__ in spec
+    used = set()
+    for path in (root / "sklearn_hardness").rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.module == "sklearn.utils._param_validation":
+                used.update(alias.name for alias in node.names)
+    assert {"Interval", "StrOptions", "validate_params"} <= used
+    assert [name for name in sorted(used) if not hasattr(pv, name)] == []
+    assert issubclass(pv.InvalidParameterError, ValueError) and issubclass(pv.InvalidParameterError, TypeError)
