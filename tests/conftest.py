@@ -3,11 +3,19 @@ import pytest
 import torch
 
 
+def pytest_configure(config):
+    config.addinivalue_line("markers", "torch_threads(n): torch threads during the test (default 2)")
+
+
 @pytest.fixture(autouse=True)
-def _few_threads():
-    # CI has 2 cores; keep torch from oversubscribing when pytest runs alongside joblib.
-    torch.set_num_threads(2)
+def _few_threads(request):
+    # CI has 2 cores; keep torch from oversubscribing when pytest runs alongside joblib. Tiny nets
+    # are fastest on one thread: their modules say pytestmark = pytest.mark.torch_threads(1).
+    marker = request.node.get_closest_marker("torch_threads")
+    before = torch.get_num_threads()
+    torch.set_num_threads(marker.args[0] if marker else 2)
     yield
+    torch.set_num_threads(before)
 
 
 @pytest.fixture
