@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import math
+import os
 import signal
 import sys
 import textwrap
@@ -90,8 +91,6 @@ _n_jobs = _int_type(nonzero=True, what="a non-zero integer (joblib: -1 is all co
 
 def _check_out_dir(path):
     """A usage error unless ``path`` is a folder or can become one."""
-    import os
-
     if os.path.exists(path) and not os.path.isdir(path):
         raise _UsageError(f"--out {path!r} exists and is not a folder")
 
@@ -139,8 +138,6 @@ def _add_select(sub):
 
 def _select_format(args):
     """The output format of ``select``, checked before anything runs."""
-    import os
-
     fmt = args.format
     if args.output is not None:
         suffix = os.path.splitext(args.output)[1].lower().lstrip(".")
@@ -531,7 +528,6 @@ def _reproduce_config(args):
 
 def _run_reproduce(args):
     import json
-    import os
     import time
 
     from .experiments import (
@@ -730,7 +726,6 @@ def _add_evaluate(sub):
 
 def _run_evaluate(args):
     import json
-    import os
     from pathlib import Path
 
     import numpy as np
@@ -824,8 +819,6 @@ def _add_cache(sub):
 
 
 def _run_cache(args):
-    import os
-
     from .experiments._data import clear_cache, default_cache_dir
 
     folder = os.path.join(args.out, "cache") if args.out is not None else default_cache_dir()
