@@ -5,15 +5,23 @@ import pytest
 import torch
 
 
-# CI has 2 cores; keep torch from oversubscribing when pytest runs alongside joblib.
-# SKLEARN_HARDNESS_TEST_THREADS changes the float path (.ci/run runs once with 1).
+# SKLEARN_HARDNESS_TEST_THREADS changes the float path (.ci/run runs the fast tests once with 1).
 _TORCH_THREADS = int(os.environ.get("SKLEARN_HARDNESS_TEST_THREADS", "2"))
 
 
+def pytest_configure(config):
+    config.addinivalue_line("markers", "torch_threads(n): torch threads during the test (default 2)")
+
+
 @pytest.fixture(autouse=True)
-def _few_threads():
-    torch.set_num_threads(_TORCH_THREADS)
+def _few_threads(request):
+    # CI has 2 cores; keep torch from oversubscribing when pytest runs alongside joblib. Tiny nets
+    # are fastest on one thread: their modules say pytestmark = pytest.mark.torch_threads(1).
+    marker = request.node.get_closest_marker("torch_threads")
+    before = torch.get_num_threads()
+    torch.set_num_threads(marker.args[0] if marker else _TORCH_THREADS)
     yield
+    torch.set_num_threads(before)
 
 
 @pytest.fixture

@@ -31,3 +31,158 @@ def test_console_script_is_installed():
 def test_unknown_command():
     with pytest.raises(SystemExit):
         main(["frobnicate"])
+
+
+# --- wrong invocations: one error line, exit status 2, nothing written -------------------------
+
+WRONG_INVOCATIONS = {
+    "missing manifest": ["select", "{tmp}/nope.csv"],
+    "threshold not a number": ["select", "{tmp}/nope.csv", "--threshold", "abc"],
+    "negative threshold": ["select", "{tmp}/nope.csv", "--threshold", "-1"],
+    "output of unknown format": ["select", "{tmp}/nope.csv", "--output", "{tmp}/out.txt"],
+    "unknown --set key": ["reproduce", "--quick", "--set", "n_iteration=2", "--out", "{tmp}/rep"],
+    "bad --set value": ["reproduce", "--quick", "--set", "n_runs=0", "--out", "{tmp}/rep"],
+    "frame size below the selector's": ["reproduce", "--quick", "--set", "frame_size=1,1", "--out", "{tmp}/rep"],
+    "--set without =": ["reproduce", "--set", "n_runs", "--out", "{tmp}/rep"],
+    "unknown strategy": ["reproduce", "--quick", "--strategies", "uncertainty", "--out", "{tmp}/rep"],
+    "--n-jobs 0 (reproduce)": ["reproduce", "--quick", "--n-jobs", "0", "--out", "{tmp}/rep"],
+    "--n-jobs not an int": ["reproduce", "--quick", "--n-jobs", "two", "--out", "{tmp}/rep"],
+    "--n-runs 0": ["reproduce", "--quick", "--n-runs", "0", "--out", "{tmp}/rep"],
+    "missing --dataset": ["reproduce", "--quick", "--dataset", "{tmp}/nope.csv", "--out", "{tmp}/rep"],
+    "paper protocol with --model": ["reproduce", "--protocol", "paper", "--model", "ofnn", "--out", "{tmp}/rep"],
+    "--readme without the table block": ["reproduce", "--quick", "--readme", "{tmp}/README.md", "--out", "{tmp}/r"],
+    "unknown preset (simulate)": ["simulate", "--preset", "foo", "--out", "{tmp}/sim"],
+    "--n-jobs 0 (simulate)": ["simulate", "--n-jobs", "0", "--out", "{tmp}/sim"],
+    "image size 0": ["simulate", "--image-size", "0", "10", "--out", "{tmp}/sim"],
+    "camera not found": ["record", "--source", "97", "--label", "soft", "--out", "{tmp}/rec"],
+    "capture file not found": ["record", "--source", "{tmp}/nope.avi", "--label", "soft", "--out", "{tmp}/rec"],
+    "--n-frames 0": ["record", "--source", "97", "--label", "soft", "--out", "{tmp}/rec", "--n-frames", "0"],
+    "missing dataset (evaluate)": ["evaluate", "{tmp}/nope.csv", "--pipelines"],
+    "unknown pipeline": ["evaluate", "everyday", "--pipelines", "svm"],
+    "--cv 1": ["evaluate", "everyday", "--cv", "1"],
+    "--n-jobs 0 (evaluate)": ["evaluate", "everyday", "--n-jobs", "0"],
+    "unknown strategy (benchmark)": ["benchmark", "--strategy", "foo"],
+    "unknown --set key (benchmark)": ["benchmark", "--set", "n_iteration=2"],
+    "--threads 0": ["benchmark", "--threads", "0"],
+    "cache of a missing --out": ["cache", "--out", "{tmp}/nope", "--clear"],
+    "missing required --out": ["simulate"],
+}
+
+
+@pytest.mark.parametrize("argv", WRONG_INVOCATIONS.values(), ids=WRONG_INVOCATIONS.keys())
+def test_wrong_invocation_is_one_error_line_and_writes_nothing(argv, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)  # default output folders (./hardness_results, ...) would land here
+    (tmp_path / "README.md").write_text("# no table markers\n")
+    before = sorted(p.name for p in tmp_path.rglob("*"))
+    with pytest.raises(SystemExit) as info:
+        main([a.format(tmp=tmp_path) for a in argv])
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1, err
+    assert err.startswith(f"sklearn-hardness {argv[0]}: error: ")
+    assert sorted(p.name for p in tmp_path.rglob("*")) == before
+
+
+def test_error_lines_name_the_problem(tmp_path, capsys):
+    for argv, fragment in [
+        (["reproduce", "--set", "n_iteration=2"], "unknown configuration key(s) ['n_iteration']"),
+        (["reproduce", "--n-jobs", "0"], "argument --n-jobs: expected a non-zero integer"),
+        (["select", "x.csv", "--threshold", "abc"], "expected 'auto' or a positive number, got 'abc'"),
+        (["record", "--source", "97", "--label", "a", "--out", str(tmp_path / "r")], "camera 97"),
+    ]:
+        with pytest.raises(SystemExit):
+            main(argv)
+        assert fragment in capsys.readouterr().err
+
+
+def test_n_jobs_accepts_joblib_negatives():
+    from sklearn_hardness._cli import build_parser
+
+    args = build_parser().parse_args(["reproduce", "--n-jobs", "-1"])
+    assert args.n_jobs == -1
+
+
+def test_missing_camera_output_is_one_line_in_a_real_process(tmp_path):
+    # OpenCV's own warnings go to the C stderr, which capsys cannot see
+    out = subprocess.run([sys.executable, "-m", "sklearn_hardness._cli", "record", "--source", "97", "--label",
+                          "a", "--out", str(tmp_path / "rec")], capture_output=True, text=True)
+    assert out.returncode == 2
+    assert out.stderr.splitlines() == [out.stderr.strip()] and "camera 97" in out.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+# --- a parser that imports nothing heavy ---------------------------------------------------------
+
+
+def test_building_the_parser_imports_neither_torch_nor_sklearn():
+    # the cause of a slow --help: what building the parser and the top-level help import
+    code = ("import sys, contextlib, io, sklearn_hardness._cli as c\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n"
+            "    for argv in (['--help'], ['--version']):\n"
+            "        try:\n"
+            "            c.main(argv)\n"
+            "        except SystemExit:\n"
+            "            pass\n"
+            "print(sorted(m for m in ('torch', 'skorch', 'sklearn', 'numpy') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
+
+
+def test_names_offered_by_the_parser_are_the_library_s():
+    from sklearn_hardness._cli import _PIPELINES, _SIM_PRESETS
+    from sklearn_hardness.datasets._sim_presets import PRESETS
+    from sklearn_hardness.experiments._evaluate import PIPELINE_NAMES
+
+    assert set(_SIM_PRESETS) == set(PRESETS)
+    assert tuple(_PIPELINES) == tuple(PIPELINE_NAMES)
+
+
+def test_every_set_key_is_documented_in_help_and_docstring(capsys):
+    from sklearn_hardness.experiments import get_config
+    from sklearn_hardness.experiments._config import _KEY_HELP
+
+    keys = set(get_config("silicone5")) - {"preset"}
+    assert set(_KEY_HELP) == keys
+    with pytest.raises(SystemExit):
+        main(["reproduce", "--help"])
+    text = capsys.readouterr().out
+    for key in keys:
+        assert f"``{key}``" in get_config.__doc__
+        assert f"\n  {key} " in text, key
+    assert "variance entropy random bald" in " ".join(text.split())  # the strategies, filled in when help is shown
+    for sub in ("select", "record", "simulate", "benchmark", "evaluate", "cache"):
+        with pytest.raises(SystemExit):
+            main([sub, "--help"])
+        assert "--quiet" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("command", ["select", "record", "simulate", "reproduce", "benchmark", "evaluate", "cache"])
+def test_every_option_has_help(command):
+    from sklearn_hardness._cli import build_parser
+
+    argv = {"select": ["m.csv"], "record": ["--label", "a", "--out", "o"], "simulate": ["--out", "o"],
+            "evaluate": ["everyday"]}.get(command, [])
+    parser = build_parser().parse_args([command, *argv])._command_parser
+    assert all(action.help for action in parser._actions), command
+
+
+# --- select: machine-readable output ------------------------------------------------------------
+
+
+def test_select_writes_json_and_csv(tmp_path, capsys):
+    import csv
+    import json
+
+    manifest, _ = _write_dataset(tmp_path)
+    assert main(["select", str(manifest), "--format", "json", "--quiet"]) == 0
+    captured = capsys.readouterr()
+    records = json.loads(captured.out)
+    assert captured.err == ""
+    assert len(records) == 6 and records[0]["label"] == "soft" and records[0]["contact_found"] is True
+    assert all(len(r["selected"]) == 4 for r in records)  # first, last and 2 between
+    assert main(["select", str(manifest), "--output", str(tmp_path / "sel.csv")]) == 0
+    assert capsys.readouterr().out == ""  # the records went to the file, the summary to stderr
+    with open(tmp_path / "sel.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert [r["label"] for r in rows] == [r["label"] for r in records]
+    assert rows[0]["selected"] == " ".join(map(str, records[0]["selected"]))

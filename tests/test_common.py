@@ -142,13 +142,8 @@ EXPECTED_FAILED_CHECKS = {
 }
 
 
-@pytest.fixture(autouse=True)
-def _one_torch_thread():
-    # Under load on 2 cores, 2 torch threads made check_classifiers_train 4-15x slower than 1.
-    before = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(before)
+# Under load on 2 cores, 2 torch threads made check_classifiers_train 4-15x slower than 1.
+pytestmark = pytest.mark.torch_threads(1)
 
 
 def _build(name):

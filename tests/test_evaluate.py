@@ -99,18 +99,20 @@ def test_run_model_baselines_grouped_cv(tiny):
     assert [r["pipeline"] for r in result.table] == ["peak_change", "dummy"]
 
 
-def test_cli_evaluate_on_a_manifest(tmp_path, capsys):
+def test_cli_evaluate_on_a_manifest(tmp_path, capsys, monkeypatch):
     root = tmp_path / "presses"
     assert main(["simulate", "--preset", "everyday", "--out", str(root), "--n-per-class", "1",
                  "--image-size", "32", "40", "--format", "avi", "--codec", "none"]) == 0
-    out = tmp_path / "eval"
-    assert main(["evaluate", str(root / "manifest.csv"), "--pipelines", "--cv", "3", "--out", str(out)]) == 0
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "hardness_evaluation"  # written without --out
+    assert main(["evaluate", str(root / "manifest.csv"), "--pipelines", "--cv", "3"]) == 0
     text = capsys.readouterr().out
     assert "object-disjoint 3-fold CV, 42 objects, 42 presses" in text and "peak_change" in text
     assert (out / "confusion_matrices.png").stat().st_size > 1000
     saved = json.loads((out / "evaluation.json").read_text())
     assert saved["target_names"] == ["hard", "moderate", "soft"] and len(saved["fold_scores"]["peak_change"]) == 3
-    assert main(["evaluate", str(tmp_path / "missing.csv"), "--pipelines"]) == 2
+    with pytest.raises(SystemExit, match="2"):
+        main(["evaluate", str(tmp_path / "missing.csv"), "--pipelines"])
     assert "neither a simulator preset" in capsys.readouterr().err
 
 

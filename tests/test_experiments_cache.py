@@ -69,3 +69,45 @@ def test_a_failed_write_leaves_no_file(tmp_path, monkeypatch):
         _data._cached_compute(str(tmp_path), ("make_presses", "x"), tiny_presses(), cfg,
                               _data._frame_params(cfg, "convlstm"), None, 0)
     assert os.listdir(tmp_path) == []
+
+
+def test_a_video_re_recorded_in_place_is_prepared_again(tmp_path, monkeypatch):
+    from sklearn_hardness.io import read_video, write_video
+
+    manifest = _manifest(tmp_path)
+    spec = _data._dataset_spec(manifest, {})
+    key = _data._cache_spec(spec)
+    assert _data._cache_spec(spec) == key  # stable while nothing changes
+    video = tmp_path / "sim" / "videos" / "press_0003.npy"
+    manifest_stat = os.stat(manifest)
+    write_video(video, read_video(video)[::-1])  # same size, new content, manifest untouched
+    os.utime(video, ns=(os.stat(video).st_atime_ns, os.stat(video).st_mtime_ns + 10**9))
+    assert os.stat(manifest).st_mtime_ns == manifest_stat.st_mtime_ns
+    assert _data._dataset_spec(manifest, {}) == spec  # the run's data id (config hash) stays
+    assert _data._cache_spec(spec) != key
+    # and prepare_inputs computes again instead of returning the old frames
+    cfg = check_config(dict(get_config("silicone5", **TINY), model="convlstm"))
+    calls = []
+    compute = _data._compute
+    monkeypatch.setattr(_data, "_compute", lambda *a: calls.append(1) or compute(*a))
+    _data.prepare_inputs(manifest, cfg, "convlstm", memory=tmp_path / "cache", verbose=0)
+    write_video(video, read_video(video)[::-1])
+    os.utime(video, ns=(os.stat(video).st_atime_ns, os.stat(video).st_mtime_ns + 2 * 10**9))
+    _data.prepare_inputs(manifest, cfg, "convlstm", memory=tmp_path / "cache", verbose=0)
+    assert calls == [1, 1]
+
+
+def test_cache_is_cleared_by_function_and_command(tmp_path, capsys):
+    from sklearn_hardness._cli import main
+
+    manifest = _manifest(tmp_path)
+    cfg = check_config(dict(get_config("silicone5", **TINY), model="convlstm"))
+    cache = tmp_path / "out" / "cache"
+    _data.prepare_inputs(manifest, cfg, "convlstm", memory=cache, verbose=0)
+    (cache / "notes.txt").write_text("not ours")
+    assert main(["cache", "--out", str(tmp_path / "out")]) == 0
+    assert "1 cached input file(s)" in capsys.readouterr().out
+    assert main(["cache", "--out", str(tmp_path / "out"), "--clear"]) == 0
+    assert "removed 1 cached input file(s)" in capsys.readouterr().out
+    assert os.listdir(cache) == ["notes.txt"]  # only the cache's own files go
+    assert _data.clear_cache(cache) == [] and _data.clear_cache(tmp_path / "nowhere") == []

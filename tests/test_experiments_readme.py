@@ -7,7 +7,7 @@ import shutil
 
 import pytest
 
-from sklearn_hardness._cli import _README_END, _README_START, _write_readme_table
+from sklearn_hardness._cli import _README_END, _README_START, _UsageError, _write_readme_table
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -19,7 +19,7 @@ def test_readme_table_block_is_replaced_in_place(tmp_path):
     assert path.read_text() == f"intro\n{_README_START}\n```\na  b\n-  -\n```\n{_README_END}\nafter\n"
     assert not _write_readme_table(path, "a  b\n-  -")  # idempotent
     path.write_text("no markers")
-    with pytest.raises(SystemExit, match="no"):
+    with pytest.raises(_UsageError, match="no"):
         _write_readme_table(path, "x")
 
 

@@ -1,5 +1,6 @@
 """Crash safety: a run killed with SIGKILL resumes without repeating or losing runs."""
 
+import contextlib
 import json
 import os
 import signal
@@ -85,3 +86,52 @@ def test_sigkill_mid_experiment_then_resume(tmp_path):
             EXPERIMENT, strategies=(k["strategy"],), test_classes=[k["test_class"]], seeds=[k["seed"]]))
         np.testing.assert_allclose(fresh.records[0]["accuracy"], r["accuracy"])
         assert fresh.records[0]["queried"] == r["queried"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+def test_signal_stops_the_workers_and_keeps_the_results(tmp_path, signum):
+    import csv
+
+    import psutil
+
+    from sklearn_hardness.experiments import ResultsStore
+    from sklearn_hardness.io import write_video
+
+    data = tiny_presses()
+    with open(tmp_path / "manifest.csv", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["path", "label"])
+        for i in range(len(data.videos)):
+            write_video(tmp_path / f"p{i:03d}.npy", data.videos[i])
+            w.writerow([f"p{i:03d}.npy", data.target_names[data.target[i]]])
+    out = tmp_path / "out"
+    argv = [sys.executable, "-m", "sklearn_hardness._cli", "reproduce", "--dataset", str(tmp_path / "manifest.csv"),
+            "--model", "ofnn", "--n-jobs", "2", "--n-runs", "20", "--strategies", "variance", "random",
+            "--out", str(out), "--quiet", "--set"] + [f"{k}={v!r}".replace(" ", "") for k, v in TINY.items()]
+    env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""), OMP_NUM_THREADS="1")
+    log = tmp_path / "stderr.txt"
+    results = out / "results.jsonl"
+    workers = []
+    with open(log, "w") as err_file:  # a file, not a pipe: workers left running would hold a pipe open
+        proc = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=err_file)
+    deadline = time.time() + 240
+    try:
+        while not (results.exists() and results.read_bytes().count(b"\n") >= 2):
+            if proc.poll() is not None or time.time() > deadline:
+                pytest.fail("the experiment ended before the signal:\n" + log.read_text())
+            time.sleep(0.05)
+        workers = psutil.Process(proc.pid).children(recursive=True)
+        assert workers, "runs should go to worker processes"
+        proc.send_signal(signum)
+        proc.wait(timeout=60)
+        _, alive = psutil.wait_procs(workers, timeout=5)
+        assert [p for p in alive if p.status() != psutil.STATUS_ZOMBIE] == []
+    finally:
+        for p in [proc, *workers]:  # never leave processes behind, even when the test fails
+            with contextlib.suppress(psutil.NoSuchProcess, ProcessLookupError):
+                p.kill()
+    assert proc.returncode == 128 + signum
+    assert log.read_text().strip().endswith("rerun the same command to resume"), log.read_text()
+    store = ResultsStore(results)  # every line a complete run, none torn
+    assert store.n_torn == 0 and 2 <= len(store.records) < 2 * 5 * 20

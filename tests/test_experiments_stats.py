@@ -79,8 +79,9 @@ def test_reproduce_protocol_paper_passes_its_arguments(tmp_path, capsys, monkeyp
     assert "SUMMARY" in capsys.readouterr().out
     assert seen["out"] == str(tmp_path) and seen["n_runs"] == 3 and seen["verbose"] == 0
     assert seen["strategies"] == ["variance", "random"] and seen["n_mc_samples"] == 7
-    with pytest.raises(SystemExit, match="no --dataset or --model"):
+    with pytest.raises(SystemExit, match="2"):
         main(["reproduce", "--protocol", "paper", "--out", str(tmp_path), "--model", "ofnn"])
+    assert "no --dataset or --model" in capsys.readouterr().err
     assert _protocol.PAPER_PROTOCOL[0][:3] == ("silicone5", "convlstm", 10)  # >= 50 paired runs per strategy
     assert _protocol.PAPER_PROTOCOL[1][:3] == ("shore9", "ofnn", 10)
 

@@ -7,12 +7,7 @@ import torch
 from sklearn_hardness.models import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
 
 
-@pytest.fixture(autouse=True)
-def _one_thread():
-    n = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(n)
+pytestmark = pytest.mark.torch_threads(1)
 
 
 def _brightness_task(n=20, seed=0, shape=(3, 8, 10, 3)):

@@ -36,13 +36,8 @@ CASES = {
 }
 
 
-@pytest.fixture(autouse=True)
-def _one_thread():
-    # These nets are tiny: one thread is fastest, and much faster than two on a busy machine.
-    n = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(n)
+# These nets are tiny: one thread is fastest, and much faster than two on a busy machine.
+pytestmark = pytest.mark.torch_threads(1)
 
 
 @pytest.fixture(params=list(CASES), scope="module")

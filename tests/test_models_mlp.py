@@ -9,12 +9,7 @@ from sklearn.preprocessing import StandardScaler
 from sklearn_hardness.models import DINOv2NNClassifier, MLPHead, OFNNClassifier
 
 
-@pytest.fixture(autouse=True)
-def _one_thread():
-    n = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(n)
+pytestmark = pytest.mark.torch_threads(1)
 
 
 @pytest.fixture(scope="module")

@@ -8,6 +8,7 @@ other and a seeded run stops being reproducible.
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
+import pytest
 import torch
 
 from sklearn_hardness.models import ConvLSTMClassifier
@@ -29,3 +30,8 @@ def test_seeded_fits_in_threads_match_sequential_fits():
         results = list(pool.map(_weights, seeds))
     for seed, w in zip(seeds, results):
         np.testing.assert_array_equal(w, expected[seed])
+
+
+@pytest.mark.torch_threads(1)
+def test_conftest_sets_the_marked_thread_count():
+    assert torch.get_num_threads() == 1

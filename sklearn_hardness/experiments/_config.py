@@ -122,6 +122,38 @@ QUICK_OVERRIDES = {
 
 _KNOWN_KEYS = set(PRESET_CONFIGS["silicone5"])
 
+#: One line per configuration key: get_config's docstring and ``reproduce --help`` are made from it.
+_KEY_HELP = {
+    "model": "classifier: convlstm (silicone5), ofnn or dinov2nn (shore9)",
+    "n_initial": "s0: presses per reference object in the initial training set",
+    "n_per_query": "s: presses of the queried object added per iteration",
+    "n_iterations": "N: active-sampling iterations",
+    "n_test": "l: presses of the test object the strategies look at",
+    "n_holdout": "presses per object held out of every run and scored after each iteration (0: none)",
+    "n_runs": "seeds per test object",
+    "initial_epochs": "e0: epochs of the initial training",
+    "epochs_per_query": "e: epochs per iteration (an upper bound with early_stopping)",
+    "max_reservoir": "M: at most M reservoir presses trained on per iteration (None: all)",
+    "n_mc_samples": "n: MC-dropout passes per query",
+    "n_ensemble": "0: MC dropout (the paper); k >= 2: an ensemble of k differently seeded nets",
+    "dropout": "dropout rate (the paper: 0.2)",
+    "lr": "learning rate",
+    "batch_size": "training batch size (None: the model's, 8 ConvLSTM, 32 MLP heads)",
+    "early_stopping": "k: training after the initial one stops when the loss has not improved for k "
+                      "epochs (None: every epoch)",
+    "convergence_threshold": "runs whose initial training loss exceeds it are skipped ('auto': 1.0 for "
+                             "the ConvLSTM, None otherwise)",
+    "n_between": "frames kept between the first and the last contact frame",
+    "frame_size": "(height, width) of the selected frames (None: the model's, 12x16 for the ConvLSTM)",
+    "color": "'gray' or 'rgb' frames (None: the model's)",
+    "crop_contact": "f in (0, 1): cut each press to f x the frame around its contact (None: whole frames)",
+    "input_scale": "'std': ConvLSTM frames divided by their std over each run's training presses; None: raw",
+    "dinov2_model": "DINOv2 weights: a Hugging Face id in the local cache or a local folder",
+    "device": "torch device of the named models: cpu, cuda, cuda:1 or auto",
+    "image_size": "(height, width) of simulated frames",
+    "data_seed": "seed of the simulated presses",
+}
+
 
 def get_config(preset="silicone5", *, quick=False, **overrides):
     """The experiment configuration of a preset, with overrides.
@@ -133,7 +165,9 @@ def get_config(preset="silicone5", *, quick=False, **overrides):
     quick : bool, default=False
         Apply :data:`QUICK_OVERRIDES` (a first look in minutes).
     **overrides
-        Any key of the configuration.
+        Any key of the configuration:
+
+{keys}
 
     Returns
     -------
@@ -160,6 +194,11 @@ def get_config(preset="silicone5", *, quick=False, **overrides):
     cfg.update(overrides)
     cfg["preset"] = preset
     return cfg
+
+
+if get_config.__doc__:  # None under python -OO
+    get_config.__doc__ = get_config.__doc__.replace("{keys}", "\n".join(
+        f"        ``{key}``\n            {meaning}." for key, meaning in _KEY_HELP.items()))
 
 
 def _ints_from(low):
@@ -201,8 +240,9 @@ def check_config(cfg):
     size = cfg["frame_size"]
     if size is not None:
         if (isinstance(size, str) or not hasattr(size, "__len__") or len(size) != 2
-                or not all(isinstance(v, numbers.Integral) and v >= 1 for v in size)):
-            raise ValueError(f"frame_size must be None or (height, width) of positive ints, got {size!r}.")
+                or not all(isinstance(v, numbers.Integral) and v >= 2 for v in size)):
+            # ContactFrameSelector's rule for output_size, checked here before a run starts
+            raise ValueError(f"frame_size must be None or (height, width) with ints >= 2, got {size!r}.")
         cfg["frame_size"] = (int(size[0]), int(size[1]))
     if cfg["convergence_threshold"] == "auto":
         # the paper's rule is for the ConvLSTM ("loss > 1 after initial training")

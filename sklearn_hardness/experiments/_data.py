@@ -174,6 +174,36 @@ def default_cache_dir():
         os.path.expanduser("~"), ".cache", "sklearn_hardness")
 
 
+def clear_cache(folder=None):
+    """Delete the cached inputs (``inputs-*.npz``) in ``folder``; return the paths removed.
+
+    ``folder`` defaults to :func:`default_cache_dir`; other files are left alone.
+    """
+    folder = default_cache_dir() if folder is None else os.fspath(folder)
+    if not os.path.isdir(folder):
+        return []
+    removed = []
+    for name in sorted(os.listdir(folder)):
+        if name.startswith(("inputs-", ".inputs-")) and ".npz" in name:
+            os.unlink(os.path.join(folder, name))
+            removed.append(os.path.join(folder, name))
+    return removed
+
+
+def _cache_spec(spec):
+    """``spec`` for the cache keys: a manifest's also covers the size and mtime of every video it lists,
+    so a video re-recorded in place is prepared again."""
+    if spec is None or spec[0] != "manifest":
+        return spec
+    from ..datasets import load_press_videos
+
+    stamps = []
+    for path in load_press_videos(spec[1]).paths:
+        st = os.stat(path)
+        stamps.append((os.fspath(path), st.st_size, st.st_mtime_ns))
+    return spec + (joblib.hash(stamps),)
+
+
 def _cached_compute(folder, spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=None):
     """``_compute`` through an ``.npz`` file keyed by what determines the result.
 
@@ -260,18 +290,20 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True, n
         data = load_dataset(dataset, cfg)
         X, y = _compute(None, data, cfg, frame_params, feature_params, verbose, n_jobs)
     else:
-        memo_key = joblib.hash((spec, frame_params, feature_params))
+        key_spec = _cache_spec(spec)
+        memo_key = joblib.hash((key_spec, frame_params, feature_params))
         if memo_key in _MEMO:
             X, y, data = _MEMO[memo_key]
         else:
             if isinstance(memory, joblib.Memory):
                 X, y = memory.cache(_compute, ignore=["dataset", "cfg", "verbose", "n_jobs"])(
-                    spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs
+                    key_spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs
                 )
             elif memory is not False and (feature_params is None or isinstance(
                     feature_params.get("model", ""), str)):
                 folder = default_cache_dir() if memory is None else os.fspath(memory)
-                X, y = _cached_compute(folder, spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs)
+                X, y = _cached_compute(folder, key_spec, dataset, cfg, frame_params, feature_params, verbose,
+                                       n_jobs)
             else:
                 X, y = _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs)
             data = load_dataset(dataset, cfg)  # lazy videos: metadata only

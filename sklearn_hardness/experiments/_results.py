@@ -90,9 +90,16 @@ class ResultsStore:
             if raw.strip():
                 try:
                     rec = json.loads(raw)
-                    if not isinstance(rec, dict) or "key" not in rec:
-                        raise ValueError("not a run record")
                 except ValueError:
+                    rec = None
+                if isinstance(rec, dict) and "key" in rec and not isinstance(rec["key"], dict):
+                    # complete JSON, so not a torn write: a line some other program wrote
+                    raise ValueError(
+                        f"{self.path}: line {i + 1} is a record whose 'key' is a "
+                        f"{type(rec['key']).__name__}, not a dict of what was run; the file was not "
+                        "written by this library alone. Fix or remove that line."
+                    )
+                if not isinstance(rec, dict) or "key" not in rec:
                     if last or all(not rest.strip() for rest in lines[i + 1 :]):
                         # the torn tail of an interrupted write
                         self.n_torn += 1
