@@ -241,8 +241,9 @@ def _add_reproduce(sub):
     p.add_argument("--protocol", default="active", choices=["active", "paper"],
                    help="active (default): the active-sampling experiment of --preset. paper: the whole "
                    "protocol, resumable into --out: model baselines, the dropout sweep and active sampling "
-                   "with every strategy at the paper's settings, 10 seeds x every test object, on silicone5 "
-                   "(ConvLSTM) and shore9 (OFNN; DINOv2NN too with --dinov2-model), with 95%% paired "
+                   "with every strategy at the paper's settings with the ConvLSTM, on silicone5 (10 seeds x "
+                   "5 objects) and shore9 (5 seeds x 9 objects; DINOv2NN baseline too with --dinov2-model), "
+                   "with 95%% paired "
                    "intervals and p-values against random and accuracy on held-out presses of every "
                    "object; writes OUT/summary.txt")
     p.add_argument("--readme", default=None, metavar="PATH",

@@ -8,7 +8,7 @@ import warnings
 
 import numpy as np
 
-from ._config import check_config, config_hash, get_config
+from ._config import check_config, config_hash, get_config, resolve_convergence_threshold
 from ._data import describe_model, make_estimator, prepare_inputs
 from ._results import ExperimentResult, ResultsStore
 from ._runner import run_tasks
@@ -250,8 +250,11 @@ def run_active_sampling(
     run's initial training presses.
 
     Following the paper, a run whose training loss after the initial training
-    exceeds ``convergence_threshold`` (1.0 for the ConvLSTM on ``silicone5``)
-    is reported as not converged and not continued.
+    exceeds ``convergence_threshold`` is reported as not converged and not
+    continued. ``"auto"``: the paper's 1.0 for the ConvLSTM at 5 classes
+    (``silicone5``), the same fraction of chance loss at K classes
+    (:func:`~sklearn_hardness.models.chance_scaled_threshold`; 1.365 on
+    ``shore9``), no rule for the other models.
 
     Parameters
     ----------
@@ -338,6 +341,7 @@ def run_active_sampling(
     # the ConvLSTM's input scale is fitted per run on its training presses (_input_scale)
     inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose, scale=False, n_jobs=n_jobs)
     n_classes = inputs.n_classes
+    resolve_convergence_threshold(cfg, n_classes)  # "auto": scaled to ln(n_classes), hashed
     test_classes = list(range(n_classes)) if test_classes is None else _check_int_list(
         test_classes, "test_classes", set(range(n_classes)))
     seeds = list(range(cfg["n_runs"])) if seeds is None else _check_int_list(seeds, "seeds")

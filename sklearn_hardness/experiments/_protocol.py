@@ -1,9 +1,13 @@
 """The paper's whole protocol in one resumable call: baselines, dropout sweep, active sampling.
 
 ``sklearn-hardness reproduce --protocol paper`` runs it. Both simulator
-presets, each with the model that can run here: ``silicone5`` with the
-ConvLSTM (the paper's robot data) and ``shore9`` with OFNN (DINOv2 weights
-cannot be downloaded on our machines; pass ``dinov2_model`` to add DINOv2NN).
+presets, each with the ConvLSTM: ``silicone5`` (the paper's robot data) and
+``shore9`` (Yuan's; the paper's DINOv2NN needs weights that cannot be
+downloaded on our machines, pass ``dinov2_model`` to add it to the
+baselines). On ``shore9`` the ConvLSTM learns (about 42% with 5 presses per
+object, chance 11%) where OFNN stays near 20-25%; its runs are judged by the
+convergence rule scaled to 9 classes
+(:func:`~sklearn_hardness.models.chance_scaled_threshold`).
 Every run goes to one results file, so an interrupted protocol resumes where
 it stopped.
 """
@@ -19,11 +23,12 @@ from ._tables import baseline_table, comparison_table, format_table
 
 __all__ = ["PAPER_PROTOCOL", "run_paper_protocol"]
 
-#: (preset, active-sampling model, seeds per test object, baseline models). 10 seeds x every
-#: test object: 50 paired runs per strategy on silicone5, 90 on shore9.
+#: (preset, active-sampling model, seeds per test object, baseline models): 10 seeds x 5 test
+#: objects = 50 paired runs per strategy on silicone5, 5 seeds x 9 = 45 on shore9 (the paper's
+#: counts). The shore9 runs with OFNN (before) have another config hash, so they are not reread.
 PAPER_PROTOCOL = (
     ("silicone5", "convlstm", 10, ("ofnn", "convlstm")),
-    ("shore9", "ofnn", 10, ("ofnn", "convlstm")),
+    ("shore9", "convlstm", 5, ("ofnn", "convlstm")),
 )
 
 #: Presses per reference object held out of every active-sampling run and scored
