@@ -229,6 +229,9 @@ def _add_reproduce(sub):
                    help=f"a first look in a few minutes on 2 cores; changes: {_quick_help()} "
                    "(smaller simulated images and frames, fewer epochs, MC passes and runs)")
     p.add_argument("--n-runs", type=int, default=None, help="seeds per test object (default: the preset's)")
+    p.add_argument("--seeds", type=int, nargs="+", default=None, metavar="SEED",
+                   help="explicit seeds per test object instead of 0..n_runs-1, e.g. --seeds $(seq 100 159) "
+                   "for runs on splits never run before")
     p.add_argument("--n-jobs", type=int, default=None,
                    help="parallel runs (joblib; -1: all cores). Default: 1")
     p.add_argument("--strategies", nargs="+", default=list(STRATEGIES),
@@ -264,6 +267,8 @@ def _run_paper_protocol(args, config):
     if args.dataset or args.model:
         raise SystemExit("--protocol paper runs the simulator presets with their models; it takes no "
                          "--dataset or --model (use --protocol active for those).")
+    if args.seeds:
+        raise SystemExit("--protocol paper runs seeds 0..n_runs-1; it takes no --seeds (use --protocol active).")
     t0 = time.time()
     text = run_paper_protocol(args.out, strategies=args.strategies, n_runs=args.n_runs, quick=args.quick,
                               n_jobs=args.n_jobs, verbose=0 if args.quiet else 1,
@@ -326,6 +331,7 @@ def _run_reproduce(args):
         model=args.model,
         strategies=args.strategies,
         n_runs=args.n_runs,
+        seeds=args.seeds,
         quick=args.quick,
         n_jobs=args.n_jobs,
         results_path=results_path,

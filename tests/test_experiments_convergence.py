@@ -1,4 +1,4 @@
-"""The chance-scaled convergence rule in the experiments.
+"""The chance-scaled convergence rule in the experiments, and the ConvLSTM's dropout placement as a config key.
 
 The hashes below were computed on main at f885357, before the rule scaled with the
 number of classes: silicone5 (5 classes) must resume its results files, shore9 with
@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 from sklearn.utils import Bunch
 
-from sklearn_hardness.experiments import _active, _baselines, config_hash, run_active_sampling
-from sklearn_hardness.experiments._data import _dataset_spec
+from sklearn_hardness.experiments import _active, _baselines, config_hash, get_config, run_active_sampling
+from sklearn_hardness.experiments._config import check_config
+from sklearn_hardness.experiments._data import _dataset_spec, make_estimator
 
 
 @pytest.fixture
@@ -72,3 +73,40 @@ def test_shore9_convlstm_gets_the_scaled_rule_and_a_new_hash(no_runs, quick):
     fixed = run_active_sampling("shore9", model="convlstm", quick=quick, verbose=0, convergence_threshold=1.0)
     assert fixed.config["convergence_threshold"] == 1.0
     assert fixed.config["config_hash"] == _MAIN_SHORE9_CONVLSTM[quick]
+
+
+def test_dropout_placement_key_reaches_the_convlstm_and_is_hashed_only_when_set(no_runs):
+    cfg = get_config("silicone5")
+    assert cfg["dropout_placement"] == "head"
+    assert config_hash(cfg) == config_hash({k: v for k, v in cfg.items() if k != "dropout_placement"})
+    assert config_hash(cfg) != config_hash(dict(cfg, dropout_placement="layers"))
+    assert make_estimator("convlstm", cfg, 0, 5).dropout_placement == "head"
+    assert make_estimator("convlstm", dict(cfg, dropout_placement="layers"), 0, 5).dropout_placement == "layers"
+    res = run_active_sampling("silicone5", quick=True, verbose=0, dropout_placement="layers")
+    assert res.config["dropout_placement"] == "layers" and res.config["config_hash"] != _MAIN_ACTIVE[
+        ("silicone5", None, True)]
+    with pytest.raises(ValueError, match="dropout_placement"):
+        check_config(get_config("silicone5", dropout_placement="pool"))
+    with pytest.raises(ValueError, match="ConvLSTM only"):
+        check_config(get_config("shore9", model="ofnn", dropout_placement="layers"))
+
+
+def test_reproduce_seeds_option(tmp_path, monkeypatch):
+    import sklearn_hardness.experiments as experiments
+    from sklearn_hardness._cli import main
+
+    seen = {}
+
+    class Stop(Exception):
+        pass
+
+    def fake(*args, **kw):
+        seen.update(kw)
+        raise Stop
+
+    monkeypatch.setattr(experiments, "run_active_sampling", fake)
+    with pytest.raises(Stop):
+        main(["reproduce", "--out", str(tmp_path), "--strategies", "thompson", "random", "--seeds", "100", "101"])
+    assert seen["seeds"] == [100, 101]
+    with pytest.raises(SystemExit, match="no --seeds"):
+        main(["reproduce", "--protocol", "paper", "--out", str(tmp_path), "--seeds", "3"])

@@ -57,6 +57,9 @@ _COMMON = {
     # seeded nets (models.EnsembleClassifier); the strategies see one "pass" per member
     "n_ensemble": 0,
     "dropout": 0.2,
+    # ConvLSTM only (ConvLSTMClassifier dropout_placement): "head", on the pooled features (ours);
+    # "layers", after each ConvLSTM layer (the paper's); "channels", one mask per channel map
+    "dropout_placement": "head",
     "lr": 1e-3,
     "batch_size": None,  # None: the model's default (8 ConvLSTM, 32 MLP heads)
     "frame_size": None,  # None: MODEL_INPUTS[model] (check_config fills it in)
@@ -178,6 +181,7 @@ _CONFIG_CONSTRAINTS = {
     "input_scale": [StrOptions({"std"}), None],
     "max_reservoir": [*_ints_from(1), None],
     "dropout": [Interval(numbers.Real, 0.0, 1.0, closed="left")],
+    "dropout_placement": [StrOptions({"head", "layers", "channels"})],
     "convergence_threshold": [StrOptions({"auto"}), Interval(numbers.Real, None, None, closed="neither"), None],
     "device": [str],
     "early_stopping": [*_ints_from(1), None],
@@ -190,6 +194,11 @@ def check_config(cfg):
     validate_parameter_constraints(
         _CONFIG_CONSTRAINTS, {k: cfg[k] for k in _CONFIG_CONSTRAINTS}, caller_name="the experiment configuration"
     )
+    if cfg["dropout_placement"] != "head" and cfg.get("model") != "convlstm":
+        raise ValueError(
+            f"dropout_placement={cfg['dropout_placement']!r} applies to the ConvLSTM only, but the model is "
+            f"{cfg.get('model')!r}; leave it at 'head' or use model='convlstm'."
+        )
     if cfg["n_ensemble"] == 1:
         raise ValueError("n_ensemble must be 0 (MC dropout) or at least 2 members, got 1.")
     if cfg["max_reservoir"] is not None and cfg["max_reservoir"] < cfg["n_per_query"]:
@@ -245,7 +254,8 @@ def _jsonable(value):
 
 #: Keys added after results files existed, with the value that means "as before": hashed
 #: only when set to something else, so earlier results files stay resumable.
-_LATER_KEYS = {"n_ensemble": 0, "device": "cpu", "early_stopping": None, "crop_contact": None}
+_LATER_KEYS = {"n_ensemble": 0, "device": "cpu", "early_stopping": None, "crop_contact": None,
+               "dropout_placement": "head"}
 
 
 #: The frame size ``frame_size=None`` meant in the hash, per :func:`_input_name` (before
