@@ -19,7 +19,7 @@ import torch
 
 from sklearn_hardness.experiments import STRATEGIES, run_active_sampling
 from sklearn_hardness.experiments._active import _active_run
-from sklearn_hardness.experiments._config import check_config, get_config
+from sklearn_hardness.experiments._config import check_config, get_config, resolve_convergence_threshold
 from sklearn_hardness.experiments._data import prepare_inputs
 
 
@@ -34,6 +34,7 @@ def main():
     torch.set_num_threads(args.threads)
     cfg = check_config(get_config("silicone5", quick=args.quick))
     inputs = prepare_inputs("silicone5", cfg, cfg["model"], verbose=0, scale=False)  # disk-cached
+    resolve_convergence_threshold(cfg, inputs.n_classes)
     t = time.perf_counter()
     if args.mode == "shared":
         res = run_active_sampling("silicone5", strategies=STRATEGIES, test_classes=[args.test_class],

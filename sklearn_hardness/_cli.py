@@ -452,6 +452,9 @@ def _add_reproduce(sub):
     p.add_argument("--quick", action="store_true", help=_quick_help)
     p.add_argument("--n-runs", type=_positive_int, default=None,
                    help="seeds per test object (default: the preset's)")
+    p.add_argument("--seeds", type=_nonnegative_int, nargs="+", default=None, metavar="SEED",
+                   help="explicit seeds per test object instead of 0..n_runs-1, e.g. --seeds $(seq 100 159) "
+                   "for runs on splits never run before")
     p.add_argument("--n-jobs", type=_n_jobs, default=None, help=_n_jobs_help(1))
     p.add_argument("--strategies", nargs="+", default=None, help=_strategies_help)
     p.add_argument("--epochs", type=_positive_int, nargs=2, default=None, metavar=("E0", "E"),
@@ -462,8 +465,9 @@ def _add_reproduce(sub):
     p.add_argument("--protocol", default="active", choices=["active", "paper"],
                    help="active (default): the active-sampling experiment of --preset. paper: the whole "
                    "protocol, resumable into --out: model baselines, the dropout sweep and active sampling "
-                   "with every strategy at the paper's settings, 10 seeds x every test object, on silicone5 "
-                   "(ConvLSTM) and shore9 (OFNN; DINOv2NN too with --dinov2-model), with 95%% paired "
+                   "with every strategy at the paper's settings with the ConvLSTM, on silicone5 (10 seeds x "
+                   "5 objects) and shore9 (5 seeds x 9 objects; DINOv2NN baseline too with --dinov2-model), "
+                   "with 95%% paired "
                    "intervals and p-values against random and accuracy on held-out presses of every "
                    "object; writes OUT/summary.txt")
     p.add_argument("--readme", default=None, metavar="PATH",
@@ -515,6 +519,8 @@ def _reproduce_config(args):
     if args.protocol == "paper" and (args.dataset or args.model):
         raise _UsageError("--protocol paper runs the simulator presets with their models; it takes no "
                           "--dataset or --model (use --protocol active for those)")
+    if args.protocol == "paper" and args.seeds:
+        raise _UsageError("--protocol paper runs seeds 0..n_runs-1; it takes no --seeds (use --protocol active)")
     if args.strategies is None:
         args.strategies = list(STRATEGIES)
     config = _parse_set(args.set)
@@ -592,6 +598,7 @@ def _run_reproduce(args):
         model=args.model,
         strategies=args.strategies,
         n_runs=args.n_runs,
+        seeds=args.seeds,
         quick=args.quick,
         n_jobs=args.n_jobs,
         results_path=results_path,

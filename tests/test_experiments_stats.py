@@ -83,7 +83,29 @@ def test_reproduce_protocol_paper_passes_its_arguments(tmp_path, capsys, monkeyp
         main(["reproduce", "--protocol", "paper", "--out", str(tmp_path), "--model", "ofnn"])
     assert "no --dataset or --model" in capsys.readouterr().err
     assert _protocol.PAPER_PROTOCOL[0][:3] == ("silicone5", "convlstm", 10)  # >= 50 paired runs per strategy
-    assert _protocol.PAPER_PROTOCOL[1][:3] == ("shore9", "ofnn", 10)
+    assert _protocol.PAPER_PROTOCOL[1][:3] == ("shore9", "convlstm", 5)  # a model that learns; 45 pairs
+
+
+def test_protocol_entry_configuration_reaches_its_experiments(tmp_path, monkeypatch):
+    from sklearn_hardness.experiments import _protocol
+
+    assert _protocol.PAPER_PROTOCOL[1][4] == {"lr": 3e-3}  # shore9's ConvLSTM converges at 3e-3
+    seen = []
+
+    class Stop(Exception):
+        pass
+
+    def baselines(preset, **kw):
+        seen.append(kw)
+        raise Stop
+
+    monkeypatch.setattr(_protocol, "run_model_baselines", baselines)
+    entry = (("shore9", "convlstm", 5, ("ofnn",), {"lr": 3e-3, "n_mc_samples": 7}),)
+    with pytest.raises(Stop):
+        _protocol.run_paper_protocol(tmp_path, protocol=entry, verbose=0)
+    with pytest.raises(Stop):
+        _protocol.run_paper_protocol(tmp_path, protocol=entry, verbose=0, lr=1e-2)  # the caller's keys win
+    assert [(kw["lr"], kw["n_mc_samples"]) for kw in seen] == [(3e-3, 7), (1e-2, 7)]
 
 
 @pytest.mark.slow

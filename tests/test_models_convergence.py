@@ -42,3 +42,46 @@ def test_rule_rejects_unfitted():
         is_converged(OFNNClassifier())
     with pytest.raises(TypeError):
         is_converged("1.0")
+
+
+def test_chance_scaled_threshold_keeps_the_papers_fraction_of_chance_loss():
+    from sklearn_hardness.models import chance_scaled_threshold
+
+    assert chance_scaled_threshold(5) == 1.0  # exactly the paper's rule at its 5 classes
+    assert chance_scaled_threshold(9) == pytest.approx(np.log(9) / np.log(5))
+    assert chance_scaled_threshold(3) == pytest.approx(np.log(3) / np.log(5))
+    for k in (2, 3, 9, 30):  # the same fraction of chance loss ln K at every K
+        assert chance_scaled_threshold(k) / np.log(k) == pytest.approx(1 / np.log(5))
+    assert chance_scaled_threshold(10, reference_classes=10, reference_threshold=0.7) == 0.7
+    assert chance_scaled_threshold(4, reference_classes=2, reference_threshold=0.5) == pytest.approx(1.0)
+    for bad in ({"n_classes": 1}, {"n_classes": 2.5}, {"n_classes": 3, "reference_classes": 1},
+                {"n_classes": 3, "reference_threshold": 0}):
+        with pytest.raises(ValueError):
+            chance_scaled_threshold(**bad)
+
+
+def test_chance_threshold_in_the_rule():
+    # a loss of 1.3: not converged by the paper's fixed rule, converged at 9 classes (1.365), not at 3
+    assert not is_converged(1.3)
+    assert is_converged(1.3, "chance", n_classes=9)
+    assert not is_converged(0.9, "chance", n_classes=3) and is_converged(0.6, "chance", n_classes=3)
+    assert is_converged(1.0, "chance", n_classes=5) and not is_converged(1.01, "chance", n_classes=5)
+    with pytest.warns(ConvergenceWarning, match="1.3 > 0.6826"):
+        assert not check_convergence(1.3, "chance", n_classes=3)
+    with pytest.raises(ValueError, match="number of classes"):
+        is_converged(1.3, "chance")
+    with pytest.raises(ValueError, match="only with threshold"):
+        is_converged(1.3, 1.0, n_classes=9)
+    with pytest.raises(ValueError, match='"chance"'):
+        is_converged(1.3, "auto")
+
+
+def test_chance_threshold_reads_the_classes_of_a_net():
+    class Fitted:  # what the rule reads of a fitted classifier
+        final_train_loss_ = 1.3
+
+        def __init__(self, n_classes):
+            self.classes_ = np.arange(n_classes)
+
+    assert is_converged(Fitted(9), "chance") and not is_converged(Fitted(5), "chance")
+    assert not is_converged(Fitted(9), "chance", n_classes=5)  # an explicit n_classes wins

@@ -175,3 +175,44 @@ def test_bad_parameters():
         ConvLSTMClassifier(kernel_size=2, max_epochs=1).fit(X, y)
     with pytest.raises(ValueError, match="NaN"):
         ConvLSTMClassifier(max_epochs=1).fit(np.where(X > 0.5, np.nan, X), y)
+
+
+def test_layer_placement_masks_reach_the_output_and_survive_clone_and_pickle():
+    """The paper's placement (dropout after each ConvLSTM layer): every layer's masks change the MC passes."""
+    import pickle
+
+    from sklearn.base import clone
+
+    from sklearn_hardness.models import make_convlstm_pipeline
+
+    X, y = _brightness_task(n=8)
+    net = ConvLSTMClassifier(dropout_placement="layers", dropout=0.3, filters=(3, 4), max_epochs=2,
+                             random_state=0).fit(X, y)
+    m = net.module_
+    assert len(m.dropouts) == 2  # one after each layer, none on the pooled features only
+    seen = []
+    hooks = [d.register_forward_hook(lambda mod, inp, out: seen.append(bool(torch.any(out != inp[0]))))
+             for d in m.dropouts]
+    try:
+        passes = net.predict_proba_samples(X[:3], n_samples=8, random_state=0)
+    finally:
+        for h in hooks:
+            h.remove()
+    assert seen and all(seen)  # every layer's dropout zeroes something in the MC passes
+    assert passes.std(axis=0).max() > 1e-4  # ... and the passes differ at the output
+    proba = net.predict_proba(X[:3])  # dropout off: deterministic, and no pass is it exactly
+    np.testing.assert_allclose(net.predict_proba(X[:3]), proba)
+    assert not np.allclose(passes, proba[None], atol=1e-6)
+    # without dropout the passes collapse to predict_proba: the spread above is the masks'
+    still = ConvLSTMClassifier(dropout_placement="layers", dropout=0.0, filters=(3, 4), max_epochs=1,
+                               random_state=0).fit(X, y)
+    np.testing.assert_allclose(still.predict_proba_samples(X[:3], n_samples=4, random_state=0),
+                               np.broadcast_to(still.predict_proba(X[:3]), (4, 3, 2)), atol=1e-5)
+    # clone keeps the parameter; a pickle keeps the net and its seeded passes
+    assert clone(net).get_params()["dropout_placement"] == "layers"
+    back = pickle.loads(pickle.dumps(net))
+    assert len(back.module_.dropouts) == 2
+    np.testing.assert_allclose(back.predict_proba_samples(X[:3], n_samples=8, random_state=0), passes, atol=1e-6)
+    # the ready-made pipeline passes it on
+    pipe = make_convlstm_pipeline(dropout_placement="layers")
+    assert pipe.named_steps["clf"].dropout_placement == "layers"

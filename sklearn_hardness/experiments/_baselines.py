@@ -10,7 +10,7 @@ import numpy as np
 from ..metrics import hardness_mae
 from ..models import is_converged
 from ..utils._random import derived_seeds
-from ._config import check_config, config_hash, get_config
+from ._config import check_config, config_hash, get_config, resolve_convergence_threshold
 from ._data import describe_model, make_estimator, prepare_inputs
 from ._evaluate import _named_pipeline, evaluate_pipelines
 from ._results import ExperimentResult, ResultsStore
@@ -158,6 +158,7 @@ def run_model_baselines(
         mcfg = check_config(dict(cfg, model=describe_model(model)))
         inputs = prepare_inputs(dataset, mcfg, model, memory=memory, verbose=verbose, n_jobs=n_jobs)
         _check_counts(inputs.y, inputs.n_classes, n_train + n_test, inputs.target_names)
+        resolve_convergence_threshold(mcfg, inputs.n_classes)
         chash = config_hash(dict(mcfg, n_runs=None, n_train=n_train, n_test=n_test, data=inputs.data_id))
         tasks = [{"seed": s, "key": {"experiment": "model_baselines", "model": name, "seed": s,
                                      "config": chash}} for s in range(n_runs)]
@@ -227,6 +228,7 @@ def run_dropout_sweep(
     check_config(cfg)
     inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose, n_jobs=n_jobs)
     _check_counts(inputs.y, inputs.n_classes, n_train + n_test, inputs.target_names)
+    resolve_convergence_threshold(cfg, inputs.n_classes)
     chash = config_hash(dict(cfg, dropout=None, n_runs=None, n_train=n_train, n_test=n_test, data=inputs.data_id))
     tasks = [{"seed": s, "dropout": d,
               "key": {"experiment": "dropout_sweep", "dropout": d, "seed": s, "config": chash}}

@@ -371,6 +371,8 @@ def make_estimator(model, cfg, seed, n_classes, dropout=None):
                       device=cfg.get("device", "cpu"))
         if cfg["batch_size"] is not None:
             kwargs["batch_size"] = int(cfg["batch_size"])
+        if model == "convlstm":
+            kwargs["dropout_placement"] = cfg.get("dropout_placement", "head")
         if cfg.get("early_stopping") is not None:
             kwargs["callbacks"] = [("early_stopping", _EarlyStoppingAfterFirst(
                 monitor="train_loss", patience=int(cfg["early_stopping"]), threshold=1e-3))]

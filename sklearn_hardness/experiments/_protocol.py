@@ -1,9 +1,13 @@
 """The paper's whole protocol in one resumable call: baselines, dropout sweep, active sampling.
 
 ``sklearn-hardness reproduce --protocol paper`` runs it. Both simulator
-presets, each with the model that can run here: ``silicone5`` with the
-ConvLSTM (the paper's robot data) and ``shore9`` with OFNN (DINOv2 weights
-cannot be downloaded on our machines; pass ``dinov2_model`` to add DINOv2NN).
+presets, each with the ConvLSTM: ``silicone5`` (the paper's robot data) and
+``shore9`` (Yuan's; the paper's DINOv2NN needs weights that cannot be
+downloaded on our machines, pass ``dinov2_model`` to add it to the
+baselines). On ``shore9`` the ConvLSTM learns (about 42% with 5 presses per
+object, chance 11%) where OFNN stays near 20-25%; its runs are judged by the
+convergence rule scaled to 9 classes
+(:func:`~sklearn_hardness.models.chance_scaled_threshold`).
 Every run goes to one results file, so an interrupted protocol resumes where
 it stopped.
 """
@@ -19,11 +23,15 @@ from ._tables import baseline_table, comparison_table, format_table
 
 __all__ = ["PAPER_PROTOCOL", "run_paper_protocol"]
 
-#: (preset, active-sampling model, seeds per test object, baseline models). 10 seeds x every
-#: test object: 50 paired runs per strategy on silicone5, 90 on shore9.
+#: (preset, active-sampling model, seeds per test object, baseline models[, configuration of the
+#: preset's experiments]): 10 seeds x 5 test objects = 50 paired runs per strategy on silicone5,
+#: 5 seeds x 9 = 45 on shore9 (the paper's counts). The shore9 runs with OFNN (before) have another
+#: config hash, so they are not reread. shore9 trains at the ConvLSTM's lr 3e-3, its OFNN baseline
+#: too (the preset's 1e-3 is the paper's DINOv2NN rate): ConvLSTM model baselines at its settings, seeds 0-3, converged in
+#: 4 of 4 at 3e-3 (losses 0.91-1.05, test accuracy 53.3%) and 2 of 4 at 1e-3 (1.24-1.42, 45.0%).
 PAPER_PROTOCOL = (
     ("silicone5", "convlstm", 10, ("ofnn", "convlstm")),
-    ("shore9", "ofnn", 10, ("ofnn", "convlstm")),
+    ("shore9", "convlstm", 5, ("ofnn", "convlstm"), {"lr": 3e-3}),
 )
 
 #: Presses per reference object held out of every active-sampling run and scored
@@ -46,19 +54,20 @@ def run_paper_protocol(out, *, strategies=STRATEGIES, n_runs=None, quick=False, 
     if dinov2_model is not None:
         config["dinov2_model"] = dinov2_model
     parts = []
-    for preset, model, seeds, baselines in protocol:
+    for preset, model, seeds, baselines, *own in protocol:
         seeds = seeds if n_runs is None else n_runs
+        preset_config = dict(own[0] if own else {}, **config)  # the caller's keys win
         models = tuple(baselines) + (("dinov2nn",) if dinov2_model is not None else ())
-        base = run_model_baselines(preset, models=models, n_runs=seeds, **common, **config)
-        sweep = run_dropout_sweep(preset, model=model, n_runs=seeds, **common, **config,
+        base = run_model_baselines(preset, models=models, n_runs=seeds, **common, **preset_config)
+        sweep = run_dropout_sweep(preset, model=model, n_runs=seeds, **common, **preset_config,
                                   **({} if dropouts is None else {"dropouts": dropouts}))
         active = run_active_sampling(preset, model=model, strategies=strategies, n_runs=seeds,
-                                     **common, **dict(dict(n_holdout=N_HOLDOUT), **config))
+                                     **common, **dict(dict(n_holdout=N_HOLDOUT), **preset_config))
         cfg = active.config
         unit = cfg.get("hardness_unit")
         parts += [
             f"== {preset}: {model}, e0={cfg['initial_epochs']} e={cfg['epochs_per_query']} "
-            f"M={cfg['max_reservoir']} N={cfg['n_iterations']} MC={cfg['n_mc_samples']}, "
+            f"M={cfg['max_reservoir']} N={cfg['n_iterations']} MC={cfg['n_mc_samples']} lr={cfg['lr']:g}, "
             f"{seeds} seeds x every test object" + (" [quick]" if quick else ""),
             f"-- model baselines ({cfg['n_initial']} presses per object, mean +- std over {seeds} seeds)",
             format_table(baseline_table(base), mae_unit=unit),

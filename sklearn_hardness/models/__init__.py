@@ -8,10 +8,11 @@
 
 All three have ``predict_proba_samples(X, n_samples, random_state)`` for
 batched MC-dropout samples, and :func:`is_converged` implements the paper's
-convergence rule.
+convergence rule (:func:`chance_scaled_threshold` carries it to any number of
+classes).
 """
 
-from ._convergence import check_convergence, is_converged
+from ._convergence import chance_scaled_threshold, check_convergence, is_converged
 from ._convlstm import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
 from ._ensemble import EnsembleClassifier
 from ._intensity_channels import IntensityChannels
@@ -38,4 +39,5 @@ __all__ = [
     "MCDropoutClassifierBase",
     "is_converged",
     "check_convergence",
+    "chance_scaled_threshold",
 ]

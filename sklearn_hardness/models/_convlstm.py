@@ -207,6 +207,10 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         these masks away, so the MC passes barely differ. ``"channels"``: after
         each layer, one mask per channel map (shared over time and space),
         which pooling keeps. See Notes for the measurement behind the default.
+        The experiments take it as the configuration key
+        ``dropout_placement`` (``--set dropout_placement=layers`` for the
+        paper's placement; hashed only when not ``"head"``, so earlier
+        results files stay resumable).
     standardize : bool, default=True
         Standardise the input per channel with the mean and standard
         deviation of the training frames of the cold-start ``fit`` (or first

@@ -153,8 +153,9 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
         Append each frame's log mean, spread and maximum change as channels
         (:class:`IntensityChannels`): for objects not seen in training.
     **classifier_params
-        Passed to :class:`ConvLSTMClassifier` (e.g. ``dropout``, ``max_epochs``,
-        ``random_state``). ``class_weight`` defaults to ``"balanced"`` here
+        Passed to :class:`ConvLSTMClassifier` (e.g. ``dropout``,
+        ``dropout_placement="layers"`` for the paper's dropout after each
+        ConvLSTM layer, ``max_epochs``, ``random_state``). ``class_weight`` defaults to ``"balanced"`` here
         (the same as None when every class has as many presses; pass None for
         the paper's unweighted loss).
 
