@@ -128,3 +128,18 @@ def test_a_run_by_name_repeats_exactly(tiny):
     a = evaluate_pipelines(tiny, pipelines=["ofnn"], cv=3, random_state=1)
     b = evaluate_pipelines(tiny, pipelines=["ofnn"], cv=3, random_state=1)
     np.testing.assert_array_equal(a.predictions["ofnn"], b.predictions["ofnn"])
+
+
+def test_progress_on_stderr_when_verbose(tiny, capsys):
+    import re
+
+    dummy = {"dummy": DummyClassifier(strategy="most_frequent")}
+    evaluate_pipelines(tiny, dummy, cv=3, verbose=1)
+    captured = capsys.readouterr()
+    lines = captured.err.splitlines()
+    assert lines[0].startswith("evaluate: 2 pipeline(s) (peak_change, dummy) x 3 object-disjoint folds")
+    done = [int(m) for m in re.findall(r"^evaluate: (\d)/6 fits, \d+s elapsed, about \d+s left$",
+                                       captured.err, flags=re.M)]
+    assert done == [1, 2, 3, 4, 5, 6] and captured.out == ""
+    evaluate_pipelines(tiny, dummy, cv=3, verbose=0)
+    assert capsys.readouterr().err == ""

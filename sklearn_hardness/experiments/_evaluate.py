@@ -28,6 +28,7 @@ from sklearn.utils import Bunch, _safe_indexing
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
 from ..utils._random import int_seed
+from ._runner import ProgressLog
 
 __all__ = [
     "evaluate_pipelines",
@@ -164,6 +165,10 @@ def _fit_fold(name, estimator, X, y, train, test, hardness, error_score):
                 balanced_accuracy=balanced_accuracy_score(y[test], pred), mae=mae)
 
 
+def _indexed(j, func, *args):
+    return j, func(*args)
+
+
 @validate_params(
     {
         "dataset": "no_validation",
@@ -173,11 +178,12 @@ def _fit_fold(name, estimator, X, y, train, test, hardness, error_score):
         "error_score": [StrOptions({"raise"}), numbers.Real],
         "n_jobs": [numbers.Integral, None],
         "random_state": ["random_state"],
+        "verbose": ["verbose"],
     },
     prefer_skip_nested_validation=True,
 )
 def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_score="raise",
-                       n_jobs=None, random_state=0):
+                       n_jobs=None, random_state=0, verbose=1):
     """Object-disjoint cross-validation of press-video pipelines.
 
     Each fold tests on objects that no training press came from
@@ -215,6 +221,12 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
         Seed of the fold assignment, of a simulated dataset and of the nets
         of the pipelines given by name (so a run repeats exactly; pass
         seeded estimators in a dict to control them yourself).
+    verbose : int, default=1
+        Progress on stderr: a line naming the work (pipelines, folds,
+        presses, objects), then one line per finished fit with the fits
+        done, the time elapsed and an estimate of the rest (the style of
+        the experiment runner's progress, readable in a batch job's log
+        too). ``0`` is silent.
 
     Returns
     -------
@@ -288,10 +300,16 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
     folds = list(splitter.split(np.zeros(len(y)), y, groups))
     hardness = getattr(data, "hardness", None)
     jobs = [(name, est, k) for name, est in named.items() for k in range(len(folds))]
-    outs = Parallel(n_jobs=n_jobs)(
-        delayed(_fit_fold)(name, est, X, y, folds[k][0], folds[k][1], hardness, error_score)
-        for name, est, k in jobs
-    )
+    progress = ProgressLog(len(jobs), desc="evaluate", verbose=verbose, unit="fits")
+    if verbose:
+        progress.write(f"{len(named)} pipeline(s) ({', '.join(named)}) x {len(folds)} object-disjoint "
+                       f"folds on {len(y)} presses of {len(np.unique(groups))} objects")
+    outs = [None] * len(jobs)
+    calls = (delayed(_indexed)(j, _fit_fold, name, est, X, y, folds[k][0], folds[k][1], hardness,
+                               error_score) for j, (name, est, k) in enumerate(jobs))
+    for j, out in Parallel(n_jobs=n_jobs, return_as="generator_unordered")(calls):
+        outs[j] = out
+        progress.update(1)
     table, fold_scores, predictions, confusion = [], {}, {}, {}
     for name in named:
         rows = [o for (n, _, _), o in zip(jobs, outs) if n == name]
