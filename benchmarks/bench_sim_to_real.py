@@ -14,13 +14,14 @@ video under the default ``ContactFrameSelector``.
 
     python benchmarks/bench_sim_to_real.py --data .../example_data
         [--pipelines peak_change contact_profile convlstm ofnn] [--roi] [--seed 0]
-        [--sim-seeds 0] [--cache DIR]
+        [--sim-seeds 0] [--cache DIR] [--param NAME=VALUE ...]
 
 The simulated videos are kept every 2nd pixel (120x160) in memory, the real
 ones cropped (``--roi``: to the gel, ``GEL_ROI``) and kept every 2nd pixel
 (240x320 for the full frame, like a GelSight Mini): both give the contact
 curve and ``ContactProfileFeatures`` the same pixel grid as full resolution.
-``--cache DIR`` stores the rendered simulated set there (``.npz``) for reruns.
+``--cache DIR`` stores the rendered simulated set there (``.npz``) for reruns;
+``--param`` overrides an ``everyday`` parameter (as in ``bench_sim_vs_real_stats``).
 Time and peak memory are printed beside the figures.
 """
 
@@ -33,6 +34,7 @@ import numpy as np
 
 from _estimate_modulus import FAMILIES, GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
 from _memory import peak_rss_mb, reset_peak
+from bench_sim_vs_real_stats import parse_param
 
 
 def simulated(seed, stride=2, cache=None, **params):
@@ -77,6 +79,8 @@ def main():
     parser.add_argument("--sim-seeds", type=int, nargs="+", default=[0],
                         help="simulated training sets (their presses are pooled)")
     parser.add_argument("--cache", default=None, help="folder to keep the rendered simulated set in")
+    parser.add_argument("--param", action="append", default=[], type=parse_param,
+                        help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
     args = parser.parse_args()
 
     from sklearn_hardness.preprocessing import ContactFrameSelector
@@ -85,11 +89,12 @@ def main():
     t0 = time.perf_counter()
     videos, target = [], []
     for s in args.sim_seeds:
-        v, y, hardness, names = simulated(s, cache=args.cache)
+        v, y, hardness, names = simulated(s, cache=args.cache, **dict(args.param))
         videos += v
         target.append(y)
     target = np.concatenate(target)
-    print(f"simulated everyday, seeds {args.sim_seeds}: {len(videos)} presses "
+    print(f"simulated everyday{' ' + str(dict(args.param)) if args.param else ''}, seeds "
+          f"{args.sim_seeds}: {len(videos)} presses "
           f"({dict(Counter(names[target].tolist()))}), {time.perf_counter() - t0:.1f} s, "
           f"peak RSS {peak_rss_mb():.0f} MB")
 

@@ -86,7 +86,8 @@ def table(groups, rows, title, reference=None):
     return "\n".join(lines)
 
 
-def _param(text):
+def parse_param(text):
+    """``NAME=VALUE`` or ``NAME=LO,HI`` -> (name, float or tuple)."""
     name, value = text.split("=", 1)
     values = [float(v) for v in value.split(",")]
     return name, (values[0] if len(values) == 1 else tuple(values))
@@ -98,7 +99,7 @@ def main():
     parser.add_argument("--roi", action="store_true", help="crop the real grasps to the gel (GEL_ROI)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--n-objects", type=int, default=None)
-    parser.add_argument("--param", action="append", default=[], type=_param,
+    parser.add_argument("--param", action="append", default=[], type=parse_param,
                         help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
     parser.add_argument("--no-sim", action="store_true")
     args = parser.parse_args()
