@@ -14,14 +14,17 @@ video under the default ``ContactFrameSelector``.
 
     python benchmarks/bench_sim_to_real.py --data .../example_data
         [--pipelines peak_change contact_profile convlstm ofnn] [--roi] [--seed 0]
-        [--sim-seeds 0] [--cache DIR] [--param NAME=VALUE ...]
+        [--sim-seeds 0] [--cache DIR] [--param NAME=VALUE ...] [--feature-subsets]
 
 The simulated videos are kept every 2nd pixel (120x160) in memory, the real
 ones cropped (``--roi``: to the gel, ``GEL_ROI``) and kept every 2nd pixel
 (240x320 for the full frame, like a GelSight Mini): both give the contact
 curve and ``ContactProfileFeatures`` the same pixel grid as full resolution.
 ``--cache DIR`` stores the rendered simulated set there (``.npz``) for reruns;
-``--param`` overrides an ``everyday`` parameter (as in ``bench_sim_vs_real_stats``).
+``--param`` overrides an ``everyday`` parameter (as in ``bench_sim_vs_real_stats``);
+``--feature-subsets`` adds which ``ContactProfileFeatures`` carry over, alone and
+combined (balanced logistic regression on subsets, beside their object-disjoint
+score on the preset).
 Time and peak memory are printed beside the figures.
 """
 
@@ -38,22 +41,23 @@ from bench_sim_vs_real_stats import parse_param
 
 
 def simulated(seed, stride=2, cache=None, **params):
-    """``make_presses("everyday")`` rendered once: (list of videos, target, hardness, names)."""
+    """``make_presses("everyday")`` rendered once: (list of videos, target, hardness, names, object_id)."""
     from sklearn_hardness.datasets import make_presses
 
     tag = "_".join(f"{k}={v}" for k, v in sorted(params.items())).replace(" ", "")
     path = None if cache is None else Path(cache) / f"everyday_seed{seed}_stride{stride}{tag}.npz"
+    data = make_presses("everyday", random_state=seed, **params)  # lazy: rendered on access
     if path is not None and path.exists():
         z = np.load(path)
         videos = np.split(z["frames"], np.cumsum(z["lengths"])[:-1])
-        return videos, z["target"], z["hardness"], z["target_names"]
-    data = make_presses("everyday", random_state=seed, **params)
+        return videos, z["target"], z["hardness"], z["target_names"], np.asarray(data.object_id)
     videos = [np.ascontiguousarray(data.videos[i][:, ::stride, ::stride]) for i in range(len(data.videos))]
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         np.savez(path, frames=np.concatenate(videos), lengths=[len(v) for v in videos],
                  target=data.target, hardness=data.hardness, target_names=data.target_names)
-    return videos, np.asarray(data.target), np.asarray(data.hardness), np.asarray(data.target_names)
+    return (videos, np.asarray(data.target), np.asarray(data.hardness), np.asarray(data.target_names),
+            np.asarray(data.object_id))
 
 
 def named_pipeline(name, seed):
@@ -70,6 +74,48 @@ def order_report(name, est, real, hardness):
     return scores, family_pairs(real.object_name, scores)
 
 
+#: Feature subsets of ``--feature-subsets`` (ContactProfileFeatures names); None: all ten.
+SUBSETS = [None, "-concentration", "log_peak_change", "peak_over_precontact", "rise_frames",
+           "area_at_peak", "concentration", "rise_frames area_at_peak",
+           "peak_over_precontact rise_frames area_at_peak"]
+
+
+def feature_subsets(videos, target, groups, real, hardness):
+    """ContactProfileFeatures + balanced logistic regression on subsets of the features.
+
+    Per subset: the within-family pairs of the real grasps ordered right when
+    trained on all simulated presses, and the object-disjoint 5-fold balanced
+    accuracy on the simulated presses (features computed once).
+    """
+    from sklearn.linear_model import LogisticRegression
+    from sklearn.metrics import balanced_accuracy_score
+    from sklearn.model_selection import StratifiedGroupKFold, cross_val_predict
+    from sklearn.pipeline import make_pipeline
+    from sklearn.preprocessing import StandardScaler
+
+    from sklearn_hardness.features import ContactProfileFeatures
+
+    cp = ContactProfileFeatures().fit(videos)
+    sim, rl = cp.transform(videos), cp.transform(real.videos)
+    names = list(cp.get_feature_names_out())
+    print("\n| ContactProfileFeatures used | pairs right (of 9) | everyday object-disjoint bal. acc. |\n|---|---|---|")
+    for subset in SUBSETS:
+        if subset is None:
+            cols = list(range(len(names)))
+        elif subset.startswith("-"):
+            cols = [j for j, n in enumerate(names) if n != subset[1:]]
+        else:
+            cols = [names.index(n) for n in subset.split()]
+        est = make_pipeline(StandardScaler(), LogisticRegression(class_weight="balanced", max_iter=2000))
+        pred = cross_val_predict(est, sim[:, cols], target, groups=groups,
+                                 cv=StratifiedGroupKFold(5, shuffle=True, random_state=0))
+        est.fit(sim[:, cols], target)
+        fams = family_pairs(real.object_name, expected_rank(est.predict_proba(rl[:, cols]), est.classes_,
+                                                            hardness))
+        right = sum(r for r, _, _ in fams.values())
+        print(f"| {subset or 'all'} | {right} | {balanced_accuracy_score(target, pred):.2f} |", flush=True)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data", required=True, help="EstimateModulus example_data folder")
@@ -79,6 +125,8 @@ def main():
     parser.add_argument("--sim-seeds", type=int, nargs="+", default=[0],
                         help="simulated training sets (their presses are pooled)")
     parser.add_argument("--cache", default=None, help="folder to keep the rendered simulated set in")
+    parser.add_argument("--feature-subsets", action="store_true",
+                        help="also: which ContactProfileFeatures carry over, alone and combined")
     parser.add_argument("--param", action="append", default=[], type=parse_param,
                         help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
     args = parser.parse_args()
@@ -87,11 +135,12 @@ def main():
 
     reset_peak()
     t0 = time.perf_counter()
-    videos, target = [], []
+    videos, target, groups = [], [], []
     for s in args.sim_seeds:
-        v, y, hardness, names = simulated(s, cache=args.cache, **dict(args.param))
+        v, y, hardness, names, obj = simulated(s, cache=args.cache, **dict(args.param))
         videos += v
         target.append(y)
+        groups += [f"{s}-{o}" for o in obj]
     target = np.concatenate(target)
     print(f"simulated everyday{' ' + str(dict(args.param)) if args.param else ''}, seeds "
           f"{args.sim_seeds}: {len(videos)} presses "
@@ -125,6 +174,8 @@ def main():
                      f"{seconds:.0f} | {peak_rss_mb():.0f} |")
         print(lines[-1], flush=True)
     print("\n".join(lines))
+    if args.feature_subsets:
+        feature_subsets(videos, target, np.asarray(groups), real, hardness)
     print(f"\ntotal {time.perf_counter() - t0:.0f} s (shared, loaded 2-core machine)")
 
 
