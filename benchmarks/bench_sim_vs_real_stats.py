@@ -21,6 +21,7 @@ parameter (e.g. ``--param ambient_leak=0.5``) to try a calibration.
 
 import argparse
 import time
+import warnings
 from collections import Counter
 
 import numpy as np
@@ -50,16 +51,17 @@ def press_stats(video, selection, i):
                 status=str(selection.status[i]), frames=len(curve))
 
 
-def collect(videos, n_jobs=1):
-    """Per-press statistics of a sequence of videos (one pass)."""
+def collect(videos):
+    """Per-press statistics of a sequence of videos (one pass; no-contact warnings are counted, not printed)."""
     from sklearn_hardness.preprocessing import ContactFrameSelector
 
     sel = ContactFrameSelector()
     rows = []
-    for i in range(len(videos)):
-        video = videos[i]
-        selection = sel.select([video])
-        rows.append(press_stats(video, selection, 0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        for i in range(len(videos)):
+            video = videos[i]
+            rows.append(press_stats(video, sel.select([video]), 0))
     return rows
 
 
