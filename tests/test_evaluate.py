@@ -130,3 +130,37 @@ def test_a_run_by_name_repeats_exactly(tiny):
     a = evaluate_pipelines(tiny, pipelines=["ofnn"], cv=3, random_state=1)
     b = evaluate_pipelines(tiny, pipelines=["ofnn"], cv=3, random_state=1)
     np.testing.assert_array_equal(a.predictions["ofnn"], b.predictions["ofnn"])
+
+
+def test_progress_on_stderr_when_verbose(tiny, capsys):
+    import re
+
+    dummy = {"dummy": DummyClassifier(strategy="most_frequent")}
+    evaluate_pipelines(tiny, dummy, cv=3, verbose=1)
+    captured = capsys.readouterr()
+    lines = captured.err.splitlines()
+    assert lines[0].startswith("evaluate: 2 pipeline(s) (peak_change, dummy) x 3 object-disjoint folds")
+    done = [int(m) for m in re.findall(r"^evaluate: (\d)/6 fits, \d+s elapsed, about \d+s left$",
+                                       captured.err, flags=re.M)]
+    assert done == [1, 2, 3, 4, 5, 6] and captured.out == ""
+    evaluate_pipelines(tiny, dummy, cv=3, verbose=0)
+    assert capsys.readouterr().err == ""
+
+
+def test_peak_change_roi_measures_only_the_region():
+    # a press in the left half (the gel) and a bright flicker in the right half (the housing)
+    rng = np.random.default_rng(0)
+    video = rng.integers(88, 92, size=(8, 16, 32, 3)).astype(np.uint8)
+    video[3:, 4:12, 2:10] = 110
+    flicker = video.copy()
+    flicker[4:, :, 16:] = np.where(np.arange(16) % 2 == 0, 200, 20)[None, None, :, None]
+    gel = (0.0, 1.0, 0.0, 0.5)
+    whole, left = peak_contact_change([flicker]), peak_contact_change([flicker], roi=gel)
+    np.testing.assert_allclose(left, peak_contact_change([video], roi=gel))  # the flicker is ignored
+    assert whole[0, 0] > left[0, 0] + 1
+    base = make_peak_change_baseline(roi=gel)
+    np.testing.assert_allclose(base[0].transform([flicker]), left)
+    assert make_peak_change_baseline()[0].kw_args is None
+    for bad in [(0.5, 0.2, 0, 1), (0, 1, 0), (0, 1.5, 0, 1), "top"]:
+        with pytest.raises(ValueError, match="roi must be None or"):
+            make_peak_change_baseline(roi=bad)

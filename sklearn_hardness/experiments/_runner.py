@@ -74,11 +74,13 @@ class ProgressLog:
     verbose : int, default=1
     stream : file-like or None, default=None
         Where to write (``sys.stderr`` if None).
+    unit : str, default="runs"
+        What is counted, as printed.
     """
 
-    def __init__(self, total, done=0, desc="runs", verbose=1, stream=None):
+    def __init__(self, total, done=0, desc="runs", verbose=1, stream=None, unit="runs"):
         self.total, self.done, self.desc, self.verbose = int(total), int(done), desc, verbose
-        self.stream = stream
+        self.stream, self.unit = stream, unit
         self._start = time.perf_counter()
         self._new = 0
 
@@ -91,9 +93,14 @@ class ProgressLog:
         elapsed = time.perf_counter() - self._start
         left = self.total - self.done
         eta = elapsed / self._new * left if self._new else float("nan")
-        stream = sys.stderr if self.stream is None else self.stream
-        print(f"{self.desc}: {self.done}/{self.total} runs, {_fmt_seconds(elapsed)} elapsed, "
-              f"about {_fmt_seconds(eta)} left", file=stream, flush=True)
+        self.write(f"{self.done}/{self.total} {self.unit}, {_fmt_seconds(elapsed)} elapsed, "
+                   f"about {_fmt_seconds(eta)} left")
+
+    def write(self, message):
+        """Print ``"desc: message"`` (unless ``verbose=0``)."""
+        if self.verbose:
+            stream = sys.stderr if self.stream is None else self.stream
+            print(f"{self.desc}: {message}", file=stream, flush=True)
 
 
 def run_tasks(func, tasks, common, store, *, n_jobs=None, verbose=1, desc="runs", group_field=None):

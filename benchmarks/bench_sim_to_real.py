@@ -1,0 +1,183 @@
+"""Benchmark: pipelines trained only on simulated presses, ordering real objects by softness.
+
+Trains the ready-made pipelines of ``evaluate`` (``peak_change``,
+``contact_profile``, ``convlstm``, ``ofnn``) on ``make_presses("everyday")``
+and predicts every real GelSight Wedge grasp of ``GelSight-lab/EstimateModulus``
+(``--data``: its ``example_data`` folder, kept locally, never committed; see
+``benchmarks/_estimate_modulus.py``). Each video's expected hardness rank is
+``sum_c predict_proba_c * rank_c`` (soft 1, moderate 2, hard 3); an object's
+is the mean over its videos. Reported per object family (balls: golf ball >
+purple > green > orange; foam bricks: blue > red > yellow, 9 within-family
+pairs): the pairs ordered right (the harder object's expected rank strictly
+higher), the expected rank of every object, and the contact status of every
+video under the default ``ContactFrameSelector``.
+
+    python benchmarks/bench_sim_to_real.py --data .../example_data
+        [--pipelines peak_change contact_profile convlstm ofnn] [--roi] [--seed 0]
+        [--sim-seeds 0] [--cache DIR] [--param NAME=VALUE ...] [--feature-subsets]
+
+The simulated videos are kept every 2nd pixel (120x160) in memory, the real
+ones cropped (``--roi``: to the gel, ``GEL_ROI``) and kept every 2nd pixel
+(240x320 for the full frame, like a GelSight Mini): both give the contact
+curve and ``ContactProfileFeatures`` the same pixel grid as full resolution.
+``--cache DIR`` stores the rendered simulated set there (``.npz``) for reruns;
+``--param`` overrides an ``everyday`` parameter (as in ``bench_sim_vs_real_stats``);
+``--feature-subsets`` adds which ``ContactProfileFeatures`` carry over, alone and
+combined (balanced logistic regression on subsets, beside their object-disjoint
+score on the preset).
+Time and peak memory are printed beside the figures.
+"""
+
+import argparse
+import time
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+from _estimate_modulus import FAMILIES, GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
+from _memory import peak_rss_mb, reset_peak
+from bench_sim_vs_real_stats import parse_param
+
+
+def simulated(seed, stride=2, cache=None, **params):
+    """``make_presses("everyday")`` rendered once: (list of videos, target, hardness, names, object_id)."""
+    from sklearn_hardness.datasets import make_presses
+
+    tag = "_".join(f"{k}={v}" for k, v in sorted(params.items())).replace(" ", "")
+    path = None if cache is None else Path(cache) / f"everyday_seed{seed}_stride{stride}{tag}.npz"
+    data = make_presses("everyday", random_state=seed, **params)  # lazy: rendered on access
+    if path is not None and path.exists():
+        z = np.load(path)
+        videos = np.split(z["frames"], np.cumsum(z["lengths"])[:-1])
+        return videos, z["target"], z["hardness"], z["target_names"], np.asarray(data.object_id)
+    videos = [np.ascontiguousarray(data.videos[i][:, ::stride, ::stride]) for i in range(len(data.videos))]
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        np.savez(path, frames=np.concatenate(videos), lengths=[len(v) for v in videos],
+                 target=data.target, hardness=data.hardness, target_names=data.target_names)
+    return (videos, np.asarray(data.target), np.asarray(data.hardness), np.asarray(data.target_names),
+            np.asarray(data.object_id))
+
+
+def named_pipeline(name, seed):
+    """The pipeline ``evaluate`` runs under ``name``."""
+    from sklearn_hardness.experiments._evaluate import _named_pipeline
+
+    return _named_pipeline(name, seed)
+
+
+def order_report(name, est, real, hardness):
+    """Fit-free part: expected ranks of the real videos and the family pairs ordered right."""
+    proba = np.asarray(est.predict_proba(real.videos))
+    scores = expected_rank(proba, est.classes_, hardness)
+    return scores, family_pairs(real.object_name, scores)
+
+
+#: Feature subsets of ``--feature-subsets`` (ContactProfileFeatures names); None: all ten.
+SUBSETS = [None, "-concentration", "log_peak_change", "peak_over_precontact", "rise_frames",
+           "area_at_peak", "concentration", "rise_frames area_at_peak",
+           "peak_over_precontact rise_frames area_at_peak"]
+
+
+def feature_subsets(videos, target, groups, real, hardness):
+    """ContactProfileFeatures + balanced logistic regression on subsets of the features.
+
+    Per subset: the within-family pairs of the real grasps ordered right when
+    trained on all simulated presses, and the object-disjoint 5-fold balanced
+    accuracy on the simulated presses (features computed once).
+    """
+    from sklearn.linear_model import LogisticRegression
+    from sklearn.metrics import balanced_accuracy_score
+    from sklearn.model_selection import StratifiedGroupKFold, cross_val_predict
+    from sklearn.pipeline import make_pipeline
+    from sklearn.preprocessing import StandardScaler
+
+    from sklearn_hardness.features import ContactProfileFeatures
+
+    cp = ContactProfileFeatures().fit(videos)
+    sim, rl = cp.transform(videos), cp.transform(real.videos)
+    names = list(cp.get_feature_names_out())
+    print("\n| ContactProfileFeatures used | pairs right (of 9) | everyday object-disjoint bal. acc. |\n|---|---|---|")
+    for subset in SUBSETS:
+        if subset is None:
+            cols = list(range(len(names)))
+        elif subset.startswith("-"):
+            cols = [j for j, n in enumerate(names) if n != subset[1:]]
+        else:
+            cols = [names.index(n) for n in subset.split()]
+        est = make_pipeline(StandardScaler(), LogisticRegression(class_weight="balanced", max_iter=2000))
+        pred = cross_val_predict(est, sim[:, cols], target, groups=groups,
+                                 cv=StratifiedGroupKFold(5, shuffle=True, random_state=0))
+        est.fit(sim[:, cols], target)
+        fams = family_pairs(real.object_name, expected_rank(est.predict_proba(rl[:, cols]), est.classes_,
+                                                            hardness))
+        right = sum(r for r, _, _ in fams.values())
+        print(f"| {subset or 'all'} | {right} | {balanced_accuracy_score(target, pred):.2f} |", flush=True)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--data", required=True, help="EstimateModulus example_data folder")
+    parser.add_argument("--pipelines", nargs="+", default=["peak_change", "contact_profile"])
+    parser.add_argument("--roi", action="store_true", help="crop the real grasps to the gel")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the nets")
+    parser.add_argument("--sim-seeds", type=int, nargs="+", default=[0],
+                        help="simulated training sets (their presses are pooled)")
+    parser.add_argument("--cache", default=None, help="folder to keep the rendered simulated set in")
+    parser.add_argument("--feature-subsets", action="store_true",
+                        help="also: which ContactProfileFeatures carry over, alone and combined")
+    parser.add_argument("--param", action="append", default=[], type=parse_param,
+                        help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
+    args = parser.parse_args()
+
+    from sklearn_hardness.preprocessing import ContactFrameSelector
+
+    reset_peak()
+    t0 = time.perf_counter()
+    videos, target, groups = [], [], []
+    for s in args.sim_seeds:
+        v, y, hardness, names, obj = simulated(s, cache=args.cache, **dict(args.param))
+        videos += v
+        target.append(y)
+        groups += [f"{s}-{o}" for o in obj]
+    target = np.concatenate(target)
+    print(f"simulated everyday{' ' + str(dict(args.param)) if args.param else ''}, seeds "
+          f"{args.sim_seeds}: {len(videos)} presses "
+          f"({dict(Counter(names[target].tolist()))}), {time.perf_counter() - t0:.1f} s, "
+          f"peak RSS {peak_rss_mb():.0f} MB")
+
+    real = load_estimate_modulus(args.data, roi=GEL_ROI if args.roi else None, stride=2)
+    sel = ContactFrameSelector().fit([real.videos[i] for i in range(len(real.videos))])
+    status = Counter(sel.selection_.status.tolist())
+    print(f"real grasps: {len(real.videos)} videos of {len(set(real.object_name))} objects, "
+          f"{'gel ROI ' + str(GEL_ROI) if args.roi else 'full frame'}; contact status: {dict(status)}")
+    for obj in dict.fromkeys(real.object_name.tolist()):
+        st = sel.selection_.status[real.object_name == obj]
+        if (st != "contact").any():
+            print(f"  {obj}: {', '.join(st.tolist())}")
+
+    members = [m for fam in FAMILIES.values() for m in fam]
+    lines = ["", "| pipeline | balls | foam bricks | all 9 pairs | expected rank per object "
+             f"({', '.join(members)}) | fit + predict s | peak RSS MB |", "|---|---|---|---|---|---|---|"]
+    for name in args.pipelines:
+        reset_peak()
+        t1 = time.perf_counter()
+        est = named_pipeline(name, args.seed).fit(videos, target)
+        scores, fams = order_report(name, est, real, hardness)
+        seconds = time.perf_counter() - t1
+        right = sum(r for r, _, _ in fams.values())
+        total = sum(n for _, n, _ in fams.values())
+        ranks = ", ".join(f"{fams[f][2][m]:.2f}" for f in FAMILIES for m in FAMILIES[f] if m in fams[f][2])
+        lines.append(f"| {name} | {fams['balls'][0]}/{fams['balls'][1]} | "
+                     f"{fams['foam bricks'][0]}/{fams['foam bricks'][1]} | {right}/{total} | {ranks} | "
+                     f"{seconds:.0f} | {peak_rss_mb():.0f} |")
+        print(lines[-1], flush=True)
+    print("\n".join(lines))
+    if args.feature_subsets:
+        feature_subsets(videos, target, np.asarray(groups), real, hardness)
+    print(f"\ntotal {time.perf_counter() - t0:.0f} s (shared, loaded 2-core machine)")
+
+
+if __name__ == "__main__":
+    main()

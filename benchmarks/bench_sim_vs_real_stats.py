@@ -1,0 +1,138 @@
+"""Benchmark: contact statistics of the ``everyday`` preset beside real recordings.
+
+The statistics of ``/work/shared/real_presses_stats.md`` (held-out GelSight
+Mini presses), computed with the same functions on simulated presses and, with
+``--data``, on the public real GelSight Wedge grasps of
+``GelSight-lab/EstimateModulus`` (see ``benchmarks/_estimate_modulus.py``):
+per rank (simulated) or per object (real), median [25th, 75th percentile] of
+the contact start and loading frames (peak - start) found by the default
+:class:`~sklearn_hardness.preprocessing.ContactFrameSelector`, the peak of
+:func:`~sklearn_hardness.preprocessing.contact_curve` (grey levels), its
+pre-contact level (median over the frames before contact), their ratio, the
+changed area at peak (share of pixels whose grey level differs from the first
+frame by more than 3) and the contact status counts.
+
+    python benchmarks/bench_sim_vs_real_stats.py [--data .../example_data] [--roi] [--seed 0]
+        [--n-objects 42] [--param NAME=VALUE ...]
+
+Prints markdown tables, time and peak memory. ``--param`` overrides a preset
+parameter (e.g. ``--param ambient_leak=0.5``) to try a calibration.
+"""
+
+import argparse
+import time
+import warnings
+from collections import Counter
+
+import numpy as np
+
+from _memory import peak_rss_mb, reset_peak
+
+#: Held-out real GelSight Mini presses (real_presses_stats.md), median per rank.
+REAL_MINI = {
+    "soft": dict(start=33.0, loading=8.5, peak=2.17, pre=0.79, ratio=2.74, area=0.10),
+    "moderate": dict(start=29.0, loading=7.0, peak=2.92, pre=0.78, ratio=3.64, area=0.14),
+    "hard": dict(start=27.0, loading=6.0, peak=3.71, pre=0.79, ratio=4.70, area=0.16),
+}
+COLUMNS = ("start", "loading", "peak", "pre", "ratio", "area")
+HEADERS = ("contact start", "loading frames", "peak change", "pre-contact", "peak / pre", "changed area")
+
+
+def press_stats(video, selection, i):
+    """The statistics of press ``i`` of a ``ContactFrameSelector.select`` result."""
+    curve = np.asarray(selection.curves[i])
+    start, peak_frame = int(selection.contact_start[i]), int(selection.contact_peak[i])
+    pre = float(np.median(curve[1:start])) if start > 1 else float("nan")
+    peak = float(curve.max())
+    grey = np.asarray(video, dtype=np.float32).mean(axis=-1)
+    area = float(np.mean(np.abs(grey[peak_frame] - grey[0]) > 3))
+    return dict(start=start, loading=peak_frame - start, peak=peak, pre=pre,
+                ratio=peak / pre if pre > 0 else float("nan"), area=area,
+                status=str(selection.status[i]), frames=len(curve))
+
+
+def collect(videos):
+    """Per-press statistics of a sequence of videos (one pass; no-contact warnings are counted, not printed)."""
+    from sklearn_hardness.preprocessing import ContactFrameSelector
+
+    sel = ContactFrameSelector()
+    rows = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        for i in range(len(videos)):
+            video = videos[i]
+            rows.append(press_stats(video, sel.select([video]), 0))
+    return rows
+
+
+def _q(values):
+    values = np.asarray([v for v in values if np.isfinite(v)], dtype=float)
+    if not len(values):
+        return "-"
+    lo, med, hi = np.percentile(values, [25, 50, 75])
+    return f"{med:.2f} [{lo:.2f}, {hi:.2f}]"
+
+
+def table(groups, rows, title, reference=None):
+    """Markdown table: one line per group (median [IQR] of each statistic, status counts)."""
+    lines = [f"\n{title}\n", "| group | presses | " + " | ".join(HEADERS) + " | status |",
+             "|---" * (len(HEADERS) + 3) + "|"]
+    groups = np.asarray(groups)
+    for g in dict.fromkeys(groups.tolist()):
+        sub = [r for r, gg in zip(rows, groups) if gg == g]
+        cells = [_q([r[c] for r in sub]) for c in COLUMNS]
+        if reference is not None and g in reference:
+            cells = [f"{cell} ({reference[g][c]:.2f})" for cell, c in zip(cells, COLUMNS)]
+        status = ", ".join(f"{k} {v}" for k, v in sorted(Counter(r["status"] for r in sub).items()))
+        lines.append(f"| {g} | {len(sub)} | " + " | ".join(cells) + f" | {status} |")
+    return "\n".join(lines)
+
+
+def parse_param(text):
+    """``NAME=VALUE`` or ``NAME=LO,HI`` -> (name, float or tuple)."""
+    name, value = text.split("=", 1)
+    values = [float(v) for v in value.split(",")]
+    return name, (values[0] if len(values) == 1 else tuple(values))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--data", default=None, help="EstimateModulus example_data folder")
+    parser.add_argument("--roi", action="store_true", help="crop the real grasps to the gel (GEL_ROI)")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--n-objects", type=int, default=None)
+    parser.add_argument("--param", action="append", default=[], type=parse_param,
+                        help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
+    parser.add_argument("--no-sim", action="store_true")
+    args = parser.parse_args()
+
+    if not args.no_sim:
+        from sklearn_hardness.datasets import make_presses
+
+        reset_peak()
+        t0 = time.perf_counter()
+        extra = dict(args.param)
+        if args.n_objects:
+            extra["n_objects"] = args.n_objects
+        data = make_presses("everyday", random_state=args.seed, **extra)
+        rows = collect(data.videos)
+        names = np.asarray(data.target_names)[np.asarray(data.target)]
+        print(table(names, rows, f"Simulated `everyday` (seed {args.seed}, {len(rows)} presses"
+                    f"{', ' + str(extra) if extra else ''}); in brackets: real GelSight Mini median",
+                    reference=REAL_MINI))
+        print(f"\n{time.perf_counter() - t0:.1f} s, peak RSS {peak_rss_mb():.0f} MB")
+
+    if args.data:
+        from _estimate_modulus import GEL_ROI, load_estimate_modulus
+
+        reset_peak()
+        t0 = time.perf_counter()
+        real = load_estimate_modulus(args.data, roi=GEL_ROI if args.roi else None)
+        rows = collect(real.videos)
+        print(table(real.object_name, rows, "Real GelSight Wedge grasps (EstimateModulus example_data"
+                    f"{', gel ROI ' + str(GEL_ROI) if args.roi else ', full frame'}), per object"))
+        print(f"\n{time.perf_counter() - t0:.1f} s, peak RSS {peak_rss_mb():.0f} MB")
+
+
+if __name__ == "__main__":
+    main()
