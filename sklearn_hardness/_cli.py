@@ -455,6 +455,9 @@ def _add_reproduce(sub):
     p.add_argument("--seeds", type=_nonnegative_int, nargs="+", default=None, metavar="SEED",
                    help="explicit seeds per test object instead of 0..n_runs-1, e.g. --seeds $(seq 100 159) "
                    "for runs on splits never run before")
+    p.add_argument("--test-objects", nargs="+", default=None, metavar="OBJECT_ID",
+                   help="object-disjoint datasets (everyday, a manifest with object_id): the objects that "
+                   "serve as test object (default: every object of a class with two or more)")
     p.add_argument("--n-jobs", type=_n_jobs, default=None, help=_n_jobs_help(1))
     p.add_argument("--strategies", nargs="+", default=None, help=_strategies_help)
     p.add_argument("--epochs", type=_positive_int, nargs=2, default=None, metavar=("E0", "E"),
@@ -515,10 +518,13 @@ def _reproduce_config(args):
     from .experiments import STRATEGIES
     from .experiments._active import _check_strategies
     from .experiments._config import check_config, get_config
+    from .experiments._data import load_dataset
 
     if args.protocol == "paper" and (args.dataset or args.model):
         raise _UsageError("--protocol paper runs the simulator presets with their models; it takes no "
                           "--dataset or --model (use --protocol active for those)")
+    if args.protocol == "paper" and args.test_objects:
+        raise _UsageError("--protocol paper runs the simulator presets; it takes no --test-objects")
     if args.protocol == "paper" and args.seeds:
         raise _UsageError("--protocol paper runs seeds 0..n_runs-1; it takes no --seeds (use --protocol active)")
     if args.strategies is None:
@@ -535,8 +541,15 @@ def _reproduce_config(args):
         for preset in presets:
             overrides = dict(config, model=args.model) if args.model else config
             check_config(get_config(preset, quick=args.quick, **overrides))
-        if args.dataset:
+        if args.dataset and args.dataset not in _SIM_PRESETS:
             load_press_videos(args.dataset)  # reads the manifest and checks its files, no video
+        if args.test_objects:
+            # object ids only: the videos of a preset or manifest are loaded lazily
+            cfg = get_config(args.preset, quick=args.quick, **config)
+            ids = load_dataset(args.dataset or args.preset, cfg).get("object_id")
+            unknown = sorted(set(args.test_objects) - set(map(str, [] if ids is None else ids)))
+            if unknown:
+                raise _UsageError(f"--test-objects {unknown} are not object ids of the dataset")
     if args.dinov2_model and args.protocol != "paper":
         config["dinov2_model"] = args.dinov2_model
     return config
@@ -599,6 +612,7 @@ def _run_reproduce(args):
         strategies=args.strategies,
         n_runs=args.n_runs,
         seeds=args.seeds,
+        test_objects=args.test_objects,
         quick=args.quick,
         n_jobs=args.n_jobs,
         results_path=results_path,

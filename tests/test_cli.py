@@ -49,6 +49,10 @@ WRONG_INVOCATIONS = {
     "--n-jobs not an int": ["reproduce", "--quick", "--n-jobs", "two", "--out", "{tmp}/rep"],
     "--n-runs 0": ["reproduce", "--quick", "--n-runs", "0", "--out", "{tmp}/rep"],
     "missing --dataset": ["reproduce", "--quick", "--dataset", "{tmp}/nope.csv", "--out", "{tmp}/rep"],
+    "unknown --test-objects": ["reproduce", "--quick", "--dataset", "everyday", "--test-objects", "nosuch",
+                               "--out", "{tmp}/rep"],
+    "paper protocol with --test-objects": ["reproduce", "--protocol", "paper", "--test-objects", "x",
+                                           "--out", "{tmp}/rep"],
     "paper protocol with --model": ["reproduce", "--protocol", "paper", "--model", "ofnn", "--out", "{tmp}/rep"],
     "--readme without the table block": ["reproduce", "--quick", "--readme", "{tmp}/README.md", "--out", "{tmp}/r"],
     "unknown preset (simulate)": ["simulate", "--preset", "foo", "--out", "{tmp}/sim"],
@@ -93,6 +97,25 @@ def test_error_lines_name_the_problem(tmp_path, capsys):
         with pytest.raises(SystemExit):
             main(argv)
         assert fragment in capsys.readouterr().err
+
+
+def test_reproduce_takes_a_preset_as_dataset_and_test_objects(tmp_path, monkeypatch):
+    import sklearn_hardness.experiments as experiments
+
+    seen = {}
+
+    class Stop(Exception):
+        pass
+
+    def fake(dataset, **kw):
+        seen.update(kw, dataset=dataset)
+        raise Stop
+
+    monkeypatch.setattr(experiments, "run_active_sampling", fake)
+    with pytest.raises(Stop):
+        main(["reproduce", "--quick", "--dataset", "everyday", "--test-objects", "everyday-00-marble",
+              "--out", str(tmp_path / "rep")])
+    assert seen["dataset"] == "everyday" and seen["test_objects"] == ["everyday-00-marble"]
 
 
 def test_n_jobs_accepts_joblib_negatives():
