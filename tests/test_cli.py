@@ -5,7 +5,7 @@ import pytest
 
 from sklearn_hardness._cli import main
 
-from .test_manifest import _write_dataset
+from .test_datasets_manifest import _write_dataset
 
 
 def test_select_command(tmp_path, capsys):

@@ -39,7 +39,7 @@ def test_reproduce_quick_writes_a_well_formed_table_with_current_provenance(tmp_
     """The quick run's table: structure, ranges and run counts, and the provenance of this code.
 
     The digits are not compared with README's: they are one CPU's floats. README's block is
-    checked against the current code's fingerprint and config hash in tests/test_provenance.py.
+    checked against the current code's fingerprint and config hash in tests/test_experiments_provenance.py.
     """
     from sklearn_hardness._cli import main
     from sklearn_hardness.experiments import (

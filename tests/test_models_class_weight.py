@@ -7,7 +7,8 @@ from sklearn.utils.class_weight import compute_class_weight
 
 from sklearn_hardness.models import ConvLSTMClassifier, DINOv2NNClassifier, OFNNClassifier
 
-from .test_models_mlp import _one_thread  # noqa: F401  (autouse: one torch thread)
+
+pytestmark = pytest.mark.torch_threads(1)
 
 
 def _imbalanced(n_major=90, n_minor=10, seed=0):

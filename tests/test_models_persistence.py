@@ -9,7 +9,8 @@ import torch
 from sklearn_hardness.models import ConvLSTMClassifier, OFNNClassifier, make_convlstm_pipeline
 
 from ._exp_data import tiny_presses
-from .test_models_mlp import _one_thread  # noqa: F401  (autouse: one torch thread)
+
+pytestmark = pytest.mark.torch_threads(1)
 
 
 def _frames(n=12, seed=0):
