@@ -6,32 +6,41 @@ starts with a provenance line, to ``docs/_output/reproduce_quick.txt``. Always, 
 index is rebuilt: ``docs/_output/index.json`` (one row per file: command, config
 hash, code fingerprint, commit, machine with its matmul GFLOP/s, date, sha256) and
 ``docs/_output/INDEX.md`` rendered from it. Rows of files that carry a provenance
-line are read from that line; files made before provenance existed keep their
-hand-written "historical" rows, and the script stops if such a file changed or a
-file has neither (record how it was made first). Idempotent: on unchanged code
+line are read from that line: "current" when the code fingerprint in it is
+today's, "earlier code" when it is not and its row says why the result still
+stands (``--earlier-code FILE NOTE`` writes that note; the test then checks the
+fingerprint against the package at the named commit); files made before
+provenance existed keep their hand-written "historical" rows. The script stops
+if a historical file changed, a file has no row, or a file made by other code
+has no note (rerun its command, or record why its result stands). Idempotent: on unchanged code
 README's block stays as it is unless the rerun gives other digits (another CPU);
 ``reproduce_quick.txt`` gets this run's provenance line (machine, date) and its
 index row follows it.
 
     python benchmarks/regenerate_outputs.py --quick   # about 1-2 min on 2 cores
     python benchmarks/regenerate_outputs.py           # the index only
+    python benchmarks/regenerate_outputs.py --earlier-code FILE "why it stands"
 """
 
 import argparse
 import hashlib
+import io
 import json
 import os
 import shutil
+import subprocess
 import sys
+import tarfile
 import tempfile
 
 from sklearn_hardness._cli import main as cli
-from sklearn_hardness.experiments import parse_provenance
+from sklearn_hardness.experiments import code_fingerprint, parse_provenance
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUTPUT = os.path.join(ROOT, "docs", "_output")
 INDEX_JSON, INDEX_MD = "index.json", "INDEX.md"
 QUICK = ["reproduce", "--quick", "--n-jobs", "2"]
+STATUSES = ("current", "earlier code", "historical")
 COLUMNS = ("file", "status", "command", "config_hash", "code_fingerprint", "commit", "machine",
            "matmul_gflops", "date", "sha256")
 
@@ -58,6 +67,25 @@ def provenance_row(name, text):
             "matmul_gflops": record["machine"]["matmul_gflops"], "date": record["date"]}
 
 
+def fingerprint_at(commit, root=ROOT):
+    """:func:`code_fingerprint` of the package as committed at ``commit`` (None without that commit).
+
+    Reads the commit's ``sklearn_hardness`` tree with ``git archive``, so a
+    file made by earlier code can be checked against the code it names.
+    """
+    commit = commit.split("+")[0]
+    try:
+        tar = subprocess.run(["git", "archive", "--format=tar", commit, "sklearn_hardness"], cwd=root,
+                             capture_output=True, timeout=60, check=True).stdout
+    except (OSError, subprocess.SubprocessError):
+        return None
+    with tempfile.TemporaryDirectory() as tmp:
+        with tarfile.open(fileobj=io.BytesIO(tar)) as archive:
+            # the "data" filter (no links out, no absolute paths) where this Python has it
+            archive.extractall(tmp, **({"filter": "data"} if hasattr(tarfile, "data_filter") else {}))
+        return code_fingerprint(root=os.path.join(tmp, "sklearn_hardness"))
+
+
 def output_files(folder=OUTPUT):
     return sorted(f for f in os.listdir(folder) if f not in (INDEX_JSON, INDEX_MD)
                   and os.path.isfile(os.path.join(folder, f)))
@@ -71,9 +99,18 @@ def load_index(folder=OUTPUT):
         return json.load(f)
 
 
-def build_index(folder=OUTPUT):
-    """Rows for every file of ``folder``: from its provenance line, else its historical row."""
+def build_index(folder=OUTPUT, earlier_code=None):
+    """Rows for every file of ``folder``: from its provenance line, else its historical row.
+
+    ``earlier_code`` maps file names to the note that says why a file made by
+    other code than today's still stands (it replaces the note in the index).
+    """
     old = {row["file"]: row for row in load_index(folder)}
+    earlier_code = dict(earlier_code or {})
+    unknown = set(earlier_code) - set(output_files(folder))
+    if unknown:
+        raise SystemExit(f"--earlier-code: no such file in docs/_output: {sorted(unknown)}")
+    today = code_fingerprint()
     rows, problems = [], []
     for name in output_files(folder):
         path = os.path.join(folder, name)
@@ -82,6 +119,18 @@ def build_index(folder=OUTPUT):
                 row = provenance_row(name, f.read())
         except UnicodeDecodeError:  # images
             row = None
+        if row is not None and row["code_fingerprint"] != today:
+            before = old.get(name, {})
+            note = earlier_code.get(name)
+            if note is None and before.get("status") == "earlier code" \
+                    and before.get("code_fingerprint") == row["code_fingerprint"]:
+                note = before.get("note")
+            if not note:
+                problems.append(f"{name}: made by other code ({row['code_fingerprint']}, today {today}); "
+                                f"rerun `{row['command']}`, or say why its result stands: "
+                                f"--earlier-code {name} \"WHY\"")
+                continue
+            row = dict(row, status="earlier code", note=note)
         if row is None:
             row = old.get(name)
             if row is None or row.get("status") != "historical":
@@ -109,7 +158,9 @@ def render_index(rows):
         "Generated by `python benchmarks/regenerate_outputs.py` from `index.json`; do not edit by hand.",
         "`tests/test_experiments_provenance.py` checks that every file is listed with its sha256, and that the code",
         "fingerprint and config hash of each current row are what the code computes today (rerun the",
-        "row's command when they are not). Historical rows were made before provenance existed: their",
+        "row's command when they are not). \"earlier code\" rows were made by the code at their commit",
+        "(the test checks the fingerprint against it) and not rerun since; their note says why they stand.",
+        "Historical rows were made before provenance existed: their",
         "command and commit come from the commit history and the docs, their code fingerprint is unknown.",
         "matmul GFLOP/s: the machine's one-thread float32 2048^3 product (`experiments.matmul_gflops`),",
         "the reference for any time measured with the file.",
@@ -143,13 +194,16 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true",
                     help="rerun reproduce --quick --n-jobs 2 (README block, docs/_output/reproduce_quick.txt)")
+    ap.add_argument("--earlier-code", nargs=2, action="append", default=[], metavar=("FILE", "NOTE"),
+                    help="keep FILE (made by other code than today's) with NOTE saying why its result stands")
     args = ap.parse_args(argv)
     if args.quick:
         regenerate_quick()
-    rows = build_index()
+    rows = build_index(earlier_code=dict(args.earlier_code))
     write_index(rows)
     print(f"indexed {len(rows)} files in {os.path.relpath(OUTPUT, ROOT)} "
-          f"({sum(r['status'] == 'current' for r in rows)} with provenance)")
+          f"({sum(r['status'] == 'current' for r in rows)} current, "
+          f"{sum(r['status'] == 'earlier code' for r in rows)} made by earlier code)")
     return 0
 
 

@@ -105,19 +105,60 @@ def test_output_index_lists_every_file_with_its_sha256():
 def test_output_index_rows_are_current_or_say_historical():
     current = code_fingerprint()
     for row in regen.load_index():
-        assert row["status"] in ("current", "historical")
+        assert row["status"] in regen.STATUSES
         if row["status"] == "historical":
             assert row["code_fingerprint"] is None and "before provenance" in row["note"] and row["commit"]
             continue
         with open(os.path.join(regen.OUTPUT, row["file"])) as f:
-            assert regen.provenance_row(row["file"], f.read()) == {k: v for k, v in row.items() if k != "sha256"}
+            made = regen.provenance_row(row["file"], f.read())
+        made.pop("status")
+        assert made == {k: v for k, v in row.items() if k not in ("sha256", "status", "note")}
+        if row["status"] == "earlier code":
+            # made by the code of its commit, not rerun since: the note says why it stands, and
+            # the commit's package (where this clone has it) is the code the file names
+            assert row["note"] and row["code_fingerprint"] != current
+            assert "+dirty" not in row["commit"], f"{row['file']} was made by uncommitted code"
+            at_commit = regen.fingerprint_at(row["commit"])
+            assert at_commit in (None, row["code_fingerprint"]), (
+                f"docs/_output/{row['file']} names commit {row['commit']}, whose code is {at_commit}, "
+                f"not the {row['code_fingerprint']} that made it")
+            continue
         assert row["code_fingerprint"] == current, (
             f"docs/_output/{row['file']} was made by other code ({row['code_fingerprint']}, now {current}); "
-            f"rerun `{row['command']}` (for the quick table: `{RERUN}`).")
+            f"rerun `{row['command']}` (for the quick table: `{RERUN}`), or keep it with "
+            f"`python benchmarks/regenerate_outputs.py --earlier-code {row['file']} \"why it stands\"`.")
         if row["config_hash"] is not None:
             assert row["config_hash"] == _command_config_hash(row["command"]), (
                 f"the configuration of `{row['command']}` changed since docs/_output/{row['file']} was made; "
                 f"rerun it (for the quick table: `{RERUN}`).")
+
+
+def test_index_keeps_a_file_of_earlier_code_only_with_a_note(tmp_path):
+    line = provenance_header("sklearn-hardness reproduce --quick", config_hash="abc",
+                             machine=machine_reference(matmul=False), date="2026-01-01T00:00Z", commit="f00")
+    old = line.replace(code_fingerprint(), "0123456789abcdef")
+    (tmp_path / "now.txt").write_text(line + "\ntable\n")
+    (tmp_path / "old.txt").write_text(old + "\ntable\n")
+    with pytest.raises(SystemExit, match="old.txt: made by other code.*--earlier-code old.txt"):
+        regen.build_index(tmp_path)
+    with pytest.raises(SystemExit, match="no such file"):
+        regen.build_index(tmp_path, earlier_code={"gone.txt": "why"})
+    rows = {r["file"]: r for r in regen.build_index(tmp_path, earlier_code={"old.txt": "a refactor"})}
+    assert rows["now.txt"]["status"] == "current" and "note" not in rows["now.txt"]
+    assert rows["old.txt"]["status"] == "earlier code" and rows["old.txt"]["note"] == "a refactor"
+    regen.write_index(list(rows.values()), tmp_path)
+    # the note is kept by later rebuilds while the file is the same run
+    again = {r["file"]: r for r in regen.build_index(tmp_path)}
+    assert again["old.txt"] == rows["old.txt"]
+    # a rerun by today's code makes it current again
+    (tmp_path / "old.txt").write_text(line + "\nnew table\n")
+    assert {r["file"]: r["status"] for r in regen.build_index(tmp_path)}["old.txt"] == "current"
+
+
+def test_fingerprint_at_a_commit_is_that_commits_code():
+    # 3f0609a9d0 made the everyday tables; its package hashed to 75910e509d7dcabe
+    assert regen.fingerprint_at("3f0609a9d0") in (None, "75910e509d7dcabe")
+    assert regen.fingerprint_at("not-a-commit") is None
 
 
 def test_readme_quick_table_carries_the_current_code_and_config():
