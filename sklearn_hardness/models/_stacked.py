@@ -250,16 +250,14 @@ class StackedConvLSTMNet(torch.nn.Module):
         Returns
         -------
         nets : list of torch.nn.Module
-            Independent modules (copies, on this module's device, in its
-            training mode).
+            Independent modules (copies, on this module's device and with its
+            dtype, in its training mode).
         """
-        params, buffers = self._stacked()
         nets = []
         for k in range(self.n_members):
-            device = next(iter(params.values())).device
-            net = copy.deepcopy(self._template).to_empty(device=device)
-            state = {n: t[k].detach().clone() for n, t in {**params, **buffers}.items()}
-            net.load_state_dict(state)
+            state = {n: t.clone() for n, t in self.member_state_dict(k).items()}
+            net = copy.deepcopy(self._template)  # on "meta": assign takes the copies' device and dtype
+            net.load_state_dict(state, assign=True)
             nets.append(net.train(self.training))
         return nets
 
