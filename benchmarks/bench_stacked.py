@@ -288,7 +288,8 @@ def main():
     name = torch.cuda.get_device_name(device) if device.type == "cuda" else f"{args.threads} CPU thread(s)"
     print(f"torch {torch.__version__}, {name}, skorch {'installed' if have_skorch else 'missing (inert stand-ins)'}, "
           f"LD_PRELOAD={os.environ.get('LD_PRELOAD', '') or '-'}")
-    print(f"float32 matmul {n}^3 on {device.type}: {peak:.1f} GFLOP/s (the reference)")
+    print(f"float32 matmul {n}^3 on {device.type}: {peak:.1f} GFLOP/s (the reference); "
+          f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
     print(f"ConvLSTMNet (4, 8, 14, 16), {args.frames} frames of {args.size}, batch {args.batch} per member, "
           f"dropout {args.dropout}, Adam; steps/s = training steps of all K members per second")
     mem = "peak MB" + (" (alloc)" if device.type == "cuda" else " (RSS)")
