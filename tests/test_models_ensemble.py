@@ -82,3 +82,64 @@ def test_experiments_use_an_ensemble_when_asked():
         assert max(r["variance"]) > 0  # the spread of the members drove the queries
     with pytest.raises(ValueError, match="n_ensemble"):
         run_active_sampling(tiny_presses(), model="ofnn", n_ensemble=1, verbose=0, **TINY)
+
+
+def _frames():
+    rng = np.random.default_rng(0)
+    X = rng.normal(size=(12, 3, 6, 8, 1)).astype(np.float32)
+    y = np.arange(12) % 3
+    return X + 0.5 * y[:, None, None, None, None].astype(np.float32), y
+
+
+def test_stacked_members_equal_separately_trained_ones():
+    from sklearn_hardness.models import ConvLSTMClassifier
+
+    X, y = _frames()
+    base = ConvLSTMClassifier(filters=(2, 3), max_epochs=2, dropout=0.0, batch_size=4, class_weight="balanced")
+    fitted = {}
+    for st in (False, True):
+        ens = EnsembleClassifier(base, n_estimators=3, random_state=0, stacked=st).fit(X, y)
+        assert ens.stacked_ is st and ens.get_params()["stacked"] is st
+        first = ens.predict_proba_samples(X[:5])
+        ens.partial_fit(X, y, epochs=1)  # a warm start continues each member's own Adam moments
+        fitted[st] = (ens, first, ens.predict_proba_samples(X[:5]))
+    (sep, sep1, sep2), (stk, stk1, stk2) = fitted[False], fitted[True]
+    np.testing.assert_allclose(stk1, sep1, atol=1e-5)
+    np.testing.assert_allclose(stk2, sep2, atol=1e-5)
+    assert class_uncertainty(stk2, "variance").max() > 1e-4  # the members differ (own seeds, own batches)
+    for a, b in zip(sep.estimators_, stk.estimators_):
+        assert len(b.history_) == 3 and b.history_[-1, "train_batch_count"] == 3
+        np.testing.assert_allclose(b.history_[:, "train_loss"], a.history_[:, "train_loss"], rtol=1e-5)
+        np.testing.assert_array_equal(b.class_weight_, a.class_weight_)
+        opt_a, opt_b = a.optimizer_.state_dict()["state"], b.optimizer_.state_dict()["state"]
+        for i in opt_a:
+            np.testing.assert_allclose(opt_b[i]["exp_avg_sq"], opt_a[i]["exp_avg_sq"], rtol=1e-3, atol=1e-12)
+    # members trained stacked continue separately (and pickle) like any member
+    import pickle
+
+    again = pickle.loads(pickle.dumps(stk)).set_params(stacked=False)
+    again.partial_fit(X, y, epochs=1)
+    assert not again.stacked_ and len(again.estimators_[0].history_) == 4
+
+
+def test_stacked_with_dropout_auto_and_bad_members():
+    from sklearn_hardness.models import ConvLSTMClassifier
+
+    X, y = _frames()
+    base = ConvLSTMClassifier(filters=(2, 3), max_epochs=2, dropout=0.5, batch_size=4)
+    ens = EnsembleClassifier(base, n_estimators=3, random_state=0, stacked=True).fit(X, y)
+    again = clone(ens).fit(X, y)  # seeded masks: the same ensemble
+    np.testing.assert_allclose(again.predict_proba_samples(X[:4]), ens.predict_proba_samples(X[:4]), rtol=1e-6)
+    assert all(np.isfinite(m.final_train_loss_) for m in ens.estimators_)
+    # "auto" stacks on CUDA only; OFNN members and callbacks cannot stack
+    assert EnsembleClassifier(base, n_estimators=2, random_state=0).fit(X, y).stacked_ is False
+    Xb, yb = _data()
+    with pytest.raises(ValueError, match="not ConvLSTMClassifier"):
+        EnsembleClassifier(_ofnn(), n_estimators=2, stacked=True).fit(Xb, yb)
+    from skorch.callbacks import PrintLog
+
+    with pytest.raises(ValueError, match="callbacks"):
+        EnsembleClassifier(clone(base).set_params(callbacks=[("log", PrintLog())]), stacked=True).fit(X, y)
+    with pytest.raises(ValueError, match="stacked"):
+        EnsembleClassifier(base, stacked="yes").fit(X, y)
+    assert EnsembleClassifier(_ofnn(), n_estimators=2, random_state=0).fit(Xb, yb).stacked_ is False

@@ -5,6 +5,8 @@
 * :class:`ConvLSTMClassifier`: ConvLSTM trained end to end on selected frames.
 * :class:`EnsembleClassifier`: differently seeded copies of a classifier, whose
   spread replaces MC dropout as the source of ``predict_proba_samples``.
+* :class:`StackedConvLSTMNet`: K independent nets stepped as one module
+  (``torch.func.vmap``), for ensembles and many small runs on a GPU.
 
 All three have ``predict_proba_samples(X, n_samples, random_state)`` for
 batched MC-dropout samples, and :func:`is_converged` implements the paper's
@@ -20,6 +22,7 @@ from ._mc_dropout import MCDropoutClassifierBase
 from ._mc_sampling import MCDropout
 from ._mlp import DINOv2NNClassifier, MLPHead, OFNNClassifier
 from ._pipelines import FrameScaler, MCDropoutPipeline, make_convlstm_pipeline, make_dinov2nn_pipeline, make_ofnn_pipeline
+from ._stacked import StackedConvLSTMNet
 
 __all__ = [
     "make_convlstm_pipeline",
@@ -35,6 +38,7 @@ __all__ = [
     "MLPHead",
     "ConvLSTMNet",
     "ConvLSTMLayer",
+    "StackedConvLSTMNet",
     "MCDropout",
     "MCDropoutClassifierBase",
     "is_converged",

@@ -2,15 +2,18 @@
 
 from __future__ import annotations
 
+import itertools
 import numbers
 
 import numpy as np
+import torch
 from joblib import Parallel, delayed
 from sklearn.base import BaseEstimator, ClassifierMixin, _fit_context, clone
-from sklearn.utils._param_validation import HasMethods, Interval, validate_parameter_constraints
+from sklearn.utils._param_validation import HasMethods, Interval, StrOptions, validate_parameter_constraints
 from sklearn.utils.validation import check_is_fitted
 
 from ..utils._random import draw_seeds, set_random_states
+from ..utils._torch import resolve_device
 
 __all__ = ["EnsembleClassifier"]
 
@@ -21,6 +24,127 @@ def _fit_member(est, X, y, fit_params):
 
 def _partial_fit_member(est, X, y, kwargs):
     return est.partial_fit(X, y, **kwargs)
+
+
+#: Optimisers whose state and update are element-wise: one of them over the stacked
+#: parameters is K optimisers of K separate nets.
+_ELEMENTWISE_OPTIMIZERS = (torch.optim.Adam, torch.optim.AdamW, torch.optim.SGD, torch.optim.RMSprop)
+
+
+def _stacking_obstacle(est, fit_params):
+    """Why members cloned from ``est`` cannot train as one stacked net; None when they can."""
+    from ._convlstm import ConvLSTMClassifier, ConvLSTMNet
+
+    if not isinstance(est, ConvLSTMClassifier):
+        return f"the members are {type(est).__name__}, not ConvLSTMClassifier"
+    if est.module is not ConvLSTMNet:
+        return "the members' module is not ConvLSTMNet"
+    if est.callbacks:
+        return "the members have callbacks (they could stop at different epochs)"
+    if est.train_split is not None:
+        return "the members have a train_split"
+    if est.optimizer not in _ELEMENTWISE_OPTIMIZERS:
+        names = ", ".join(o.__name__ for o in _ELEMENTWISE_OPTIMIZERS)
+        return f"the members' optimizer is not one of the element-wise {names}"
+    if "param_groups" in est.get_params_for("optimizer"):
+        return "the members' optimizer has param_groups"
+    if est.criterion is not torch.nn.CrossEntropyLoss or est.get_params_for("criterion"):
+        return "the members' criterion is not a plain CrossEntropyLoss"
+    if est.iterator_train is not torch.utils.data.DataLoader:
+        return "the members have a custom iterator_train"
+    if fit_params:
+        return f"fit parameters {sorted(fit_params)} were given"
+    return None
+
+
+def _stacked_optimizer_state(stacked_state, member_states, k=None):
+    """Stack the members' optimiser states of one parameter (``k=None``), or take row ``k``."""
+    if k is None:
+        first = member_states[0]
+        return {key: torch.stack([s[key] for s in member_states])
+                if torch.is_tensor(v) and v.dim() > 0 else (v.clone() if torch.is_tensor(v) else v)
+                for key, v in first.items()}
+    return {key: v[k].clone() if torch.is_tensor(v) and v.dim() > 0 else (v.clone() if torch.is_tensor(v) else v)
+            for key, v in stacked_state.items()}
+
+
+def _train_stacked(members, X, y, epochs=None, classes=None):
+    """Train ConvLSTMClassifier members as one StackedConvLSTMNet, then write the result back.
+
+    Each member is prepared by its own skorch hooks (``on_train_begin``: data
+    validation, a seeded net on a cold start), keeps its own batch order (its
+    seeded training iterator) and records its own history; only the steps are
+    shared. Weights, buffers and optimiser states end up in the members, so
+    they predict, pickle and continue training as if trained separately.
+    """
+    from ._stacked import StackedConvLSTMNet
+
+    for m in members:
+        if not m.initialized_:
+            m.initialize()
+        m._partial_fit_classes = classes  # read by the members' on_train_begin, as in partial_fit
+        try:
+            m.notify("on_train_begin", X=X, y=y)
+        finally:
+            del m._partial_fit_classes
+        m.check_training_readiness()
+    first = members[0]
+    device = torch.device(first.device)
+    dataset = first.get_dataset(X, y)
+    iterators = [m.get_iterator(dataset, training=True) for m in members]
+    stacked = StackedConvLSTMNet([m.module_ for m in members]).to(device).train()
+    named = [dict(m.module_.named_parameters()) for m in members]
+    stacked_params = dict(zip(stacked._param_names, stacked.parameters()))
+    args, kwargs = first.get_params_for_optimizer("optimizer", stacked.named_parameters())
+    optimizer = first.optimizer(*args, **kwargs)
+    for name, p in stacked_params.items():
+        states = [m.optimizer_.state.get(named[k][name]) for k, m in enumerate(members)]
+        if all(states):  # a warm start: continue every member's own moments
+            optimizer.state[p] = _stacked_optimizer_state(None, states)
+    weight = getattr(first.criterion_, "weight", None)
+    gen = getattr(first, "dropout_generator_", None)
+    if gen is not None:  # reproducible masks, and a new stream at each call
+        seed = int(torch.randint(0, 2**62, (1,), generator=gen, device=gen.device))
+        stacked.generator = torch.Generator().manual_seed(seed)
+    on_epoch = {"dataset_train": dataset, "dataset_valid": None}
+    for _ in range(first.max_epochs if epochs is None else int(epochs)):
+        for m in members:
+            m.notify("on_epoch_begin", **on_epoch)
+        count = 0
+        # zip_longest runs every iterator to its end: a DataLoader's sampler draws from the
+        # member's shuffle generator once more when exhausted (zip would leave all but the first)
+        for batches in itertools.zip_longest(*iterators):
+            for m, b in zip(members, batches):
+                m.notify("on_batch_begin", batch=b, training=True)
+            Xb = torch.stack([torch.as_tensor(b[0]) for b in batches]).to(device)
+            yb = torch.stack([torch.as_tensor(b[1]) for b in batches]).to(device)
+            optimizer.zero_grad()
+            logits = stacked(Xb)
+            losses = stacked.member_losses(logits, yb, weight)
+            losses.sum().backward()
+            optimizer.step()
+            values = losses.detach().cpu().tolist()
+            for k, (m, b) in enumerate(zip(members, batches)):
+                m.history.record_batch("train_loss", values[k])
+                m.history.record_batch("train_batch_size", len(b[0]))
+                m.notify("on_batch_end", batch=b, training=True, loss=losses[k].detach(),
+                         y_pred=logits[k].detach())
+            count += 1
+        for m in members:
+            m.history.record("train_batch_count", count)
+            m.notify("on_epoch_end", **on_epoch)
+    with torch.no_grad():
+        for k, m in enumerate(members):
+            state = stacked.member_state_dict(k)
+            for name, t in list(m.module_.named_parameters()) + list(m.module_.named_buffers()):
+                t.copy_(state[name])
+            m.module_.train()
+            for name, p in stacked_params.items():
+                if p in optimizer.state:
+                    m.optimizer_.state[named[k][name]] = _stacked_optimizer_state(optimizer.state[p], None, k)
+    for m in members:
+        m.notify("on_train_end", X=X, y=y)
+    return members
 
 
 class EnsembleClassifier(ClassifierMixin, BaseEstimator):
@@ -48,7 +172,20 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
     random_state : int, RandomState instance or None, default=None
         Draws the members' seeds.
     n_jobs : int or None, default=None
-        Members trained in parallel (:class:`joblib.Parallel`).
+        Members trained in parallel (:class:`joblib.Parallel`); not used
+        when they train stacked.
+    stacked : {"auto"} or bool, default="auto"
+        Train the members as one :class:`StackedConvLSTMNet` (every step of
+        every member in one batched call) instead of one after another.
+        Possible when ``estimator`` is a :class:`ConvLSTMClassifier` with its
+        default module, criterion and iterator, an element-wise optimiser
+        (Adam, AdamW, SGD, RMSprop) and no callbacks or ``train_split``.
+        Each member keeps its seed's initial weights, batch order, history
+        and optimiser state; its dropout masks are drawn independently but
+        are not those of separate training (see Notes). ``"auto"``: stacked
+        on a CUDA device when possible, separate otherwise (on CPU stacking
+        measured no faster: ``benchmarks/bench_stacked.py``). ``True``:
+        stacked, or a ``ValueError`` saying why not.
 
     Attributes
     ----------
@@ -59,6 +196,8 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
     classes_ : ndarray of shape (n_classes,)
     n_features_in_ : int
         Only when the members have it.
+    stacked_ : bool
+        Whether the last ``fit``/``partial_fit`` trained the members stacked.
 
     See Also
     --------
@@ -69,6 +208,13 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
     :class:`~sklearn_hardness.active.ActiveLearner` trains an ensemble of
     skorch nets like one net: ``partial_fit(X, y, classes=..., epochs=...)``
     continues every member from its current weights.
+
+    Stacked training (``stacked``) runs the members' steps together on each
+    member's own batches; without dropout it gives the members of separate
+    training to float tolerance (``tests/test_models_ensemble.py``). With
+    dropout the masks come from one seeded stream split between the members
+    (:class:`StackedConvLSTMNet`), so the members are distributed as, but not
+    equal to, separately trained ones.
 
     Examples
     --------
@@ -86,13 +232,27 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
         "n_estimators": [Interval(numbers.Integral, 1, None, closed="left")],
         "random_state": ["random_state"],
         "n_jobs": [numbers.Integral, None],
+        "stacked": [StrOptions({"auto"}), "boolean"],
     }
 
-    def __init__(self, estimator, *, n_estimators=5, random_state=None, n_jobs=None):
+    def __init__(self, estimator, *, n_estimators=5, random_state=None, n_jobs=None, stacked="auto"):
         self.estimator = estimator
         self.n_estimators = n_estimators
         self.random_state = random_state
         self.n_jobs = n_jobs
+        self.stacked = stacked
+
+    def _use_stacked(self, fit_params):
+        if self.stacked is False:
+            return False
+        obstacle = _stacking_obstacle(self.estimator, fit_params)
+        if self.stacked is True:
+            if obstacle is not None:
+                raise ValueError(f"stacked=True, but the members cannot train stacked: {obstacle}.")
+            return True
+        if obstacle is not None:
+            return False
+        return torch.device(resolve_device(self.estimator.device)).type == "cuda"
 
     def _new_members(self):
         self.seeds_ = np.array(draw_seeds(self.random_state, self.n_estimators))
@@ -126,9 +286,13 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
         self
         """
         members = self._new_members()
-        self.estimators_ = Parallel(n_jobs=self.n_jobs, prefer="threads")(
-            delayed(_fit_member)(m, X, y, fit_params) for m in members
-        )
+        self.stacked_ = self._use_stacked(fit_params)
+        if self.stacked_:
+            self.estimators_ = _train_stacked(members, X, y)
+        else:
+            self.estimators_ = Parallel(n_jobs=self.n_jobs, prefer="threads")(
+                delayed(_fit_member)(m, X, y, fit_params) for m in members
+            )
         self._set_classes()
         return self
 
@@ -147,6 +311,12 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
             self.estimators_ = self._new_members()
         if not all(hasattr(m, "partial_fit") for m in self.estimators_):
             raise TypeError(f"{type(self.estimator).__name__} has no partial_fit; use fit.")
+        other = {k: v for k, v in kwargs.items() if k != "epochs"}
+        self.stacked_ = self._use_stacked(other)
+        if self.stacked_:
+            self.estimators_ = _train_stacked(self.estimators_, X, y, epochs=kwargs.get("epochs"), classes=classes)
+            self._set_classes()
+            return self
         if classes is not None:
             kwargs["classes"] = classes
         self.estimators_ = Parallel(n_jobs=self.n_jobs, prefer="threads")(
