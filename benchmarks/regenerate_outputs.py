@@ -20,6 +20,7 @@ index row follows it.
     python benchmarks/regenerate_outputs.py --quick   # about 1-2 min on 2 cores
     python benchmarks/regenerate_outputs.py           # the index only
     python benchmarks/regenerate_outputs.py --earlier-code FILE "why it stands"
+    python benchmarks/regenerate_outputs.py --earlier-code FILE "why" --python FILE 3.12
 """
 
 import argparse
@@ -52,8 +53,9 @@ def file_sha256(path):
 
 def machine_text(machine):
     """One phrase for a provenance's machine dict."""
+    python = f", Python {machine['python']}" if machine.get("python") else ""
     return (f"{machine['cpu']}, {machine['cores']} cores, {machine['torch_threads']} torch threads, "
-            f"torch {machine['torch']}, numpy {machine['numpy']}, load {machine.get('load')}")
+            f"torch {machine['torch']}, numpy {machine['numpy']}{python}, load {machine.get('load')}")
 
 
 def provenance_row(name, text):
@@ -64,7 +66,8 @@ def provenance_row(name, text):
     return {"file": name, "status": "current", "command": record["command"],
             "config_hash": record["config_hash"], "code_fingerprint": record["code_fingerprint"],
             "commit": record["commit"], "machine": machine_text(record["machine"]),
-            "matmul_gflops": record["machine"]["matmul_gflops"], "date": record["date"]}
+            "matmul_gflops": record["machine"]["matmul_gflops"], "date": record["date"],
+            **({"python": record["machine"]["python"]} if record["machine"].get("python") else {})}
 
 
 def fingerprint_at(commit, root=ROOT):
@@ -72,6 +75,9 @@ def fingerprint_at(commit, root=ROOT):
 
     Reads the commit's ``sklearn_hardness`` tree with ``git archive``, so a
     file made by earlier code can be checked against the code it names.
+    Returns the pair (fingerprint, legacy fingerprint on this Python): files
+    made before 2026-11-24 carry the legacy one, which depends on the Python
+    version that computed it.
     """
     commit = commit.split("+")[0]
     try:
@@ -83,7 +89,8 @@ def fingerprint_at(commit, root=ROOT):
         with tarfile.open(fileobj=io.BytesIO(tar)) as archive:
             # the "data" filter (no links out, no absolute paths) where this Python has it
             archive.extractall(tmp, **({"filter": "data"} if hasattr(tarfile, "data_filter") else {}))
-        return code_fingerprint(root=os.path.join(tmp, "sklearn_hardness"))
+        root = os.path.join(tmp, "sklearn_hardness")
+        return code_fingerprint(root=root), code_fingerprint(root=root, legacy=True)
 
 
 def output_files(folder=OUTPUT):
@@ -99,17 +106,21 @@ def load_index(folder=OUTPUT):
         return json.load(f)
 
 
-def build_index(folder=OUTPUT, earlier_code=None):
+def build_index(folder=OUTPUT, earlier_code=None, python=None):
     """Rows for every file of ``folder``: from its provenance line, else its historical row.
 
     ``earlier_code`` maps file names to the note that says why a file made by
     other code than today's still stands (it replaces the note in the index).
+    ``python`` maps file names to the Python version that made them, for files
+    whose provenance line predates its ``python`` field (their legacy code
+    fingerprint depends on it).
     """
     old = {row["file"]: row for row in load_index(folder)}
     earlier_code = dict(earlier_code or {})
-    unknown = set(earlier_code) - set(output_files(folder))
+    python = dict(python or {})
+    unknown = (set(earlier_code) | set(python)) - set(output_files(folder))
     if unknown:
-        raise SystemExit(f"--earlier-code: no such file in docs/_output: {sorted(unknown)}")
+        raise SystemExit(f"--earlier-code/--python: no such file in docs/_output: {sorted(unknown)}")
     today = code_fingerprint()
     rows, problems = [], []
     for name in output_files(folder):
@@ -131,6 +142,9 @@ def build_index(folder=OUTPUT, earlier_code=None):
                                 f"--earlier-code {name} \"WHY\"")
                 continue
             row = dict(row, status="earlier code", note=note)
+            made_with = python.get(name) or before.get("python")
+            if made_with and "python" not in row:
+                row["python"] = made_with
         if row is None:
             row = old.get(name)
             if row is None or row.get("status") != "historical":
@@ -196,10 +210,12 @@ def main(argv=None):
                     help="rerun reproduce --quick --n-jobs 2 (README block, docs/_output/reproduce_quick.txt)")
     ap.add_argument("--earlier-code", nargs=2, action="append", default=[], metavar=("FILE", "NOTE"),
                     help="keep FILE (made by other code than today's) with NOTE saying why its result stands")
+    ap.add_argument("--python", nargs=2, action="append", default=[], metavar=("FILE", "X.Y"),
+                    help="the Python version that made FILE, where its provenance line does not say it")
     args = ap.parse_args(argv)
     if args.quick:
         regenerate_quick()
-    rows = build_index(earlier_code=dict(args.earlier_code))
+    rows = build_index(earlier_code=dict(args.earlier_code), python=dict(args.python))
     write_index(rows)
     print(f"indexed {len(rows)} files in {os.path.relpath(OUTPUT, ROOT)} "
           f"({sum(r['status'] == 'current' for r in rows)} current, "

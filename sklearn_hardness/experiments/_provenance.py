@@ -40,18 +40,47 @@ def _strip_docstrings(tree):
     return tree
 
 
-def code_fingerprint(root=None):
+def _stable_dump(node):
+    """``ast.dump`` without the fields that are empty or None.
+
+    Python versions add fields with empty defaults (3.12's ``type_params``)
+    and 3.13 leaves empty ones out of ``ast.dump``; some 3.12 releases also end
+    an f-string's parts with an empty string. Dropping both gives one text per
+    program on Python 3.10 to 3.13.
+    """
+    if isinstance(node, ast.AST):
+        fields = []
+        for name in node._fields:
+            value = getattr(node, name, None)
+            if isinstance(node, ast.JoinedStr) and name == "values":
+                value = [v for v in value if not (isinstance(v, ast.Constant) and v.value == "")]
+            if value is None or (isinstance(value, list) and not value):
+                continue
+            fields.append(f"{name}={_stable_dump(value)}")
+        return f"{type(node).__name__}({', '.join(fields)})"
+    if isinstance(node, list):
+        return "[" + ", ".join(_stable_dump(v) for v in node) + "]"
+    return repr(node)
+
+
+def code_fingerprint(root=None, *, legacy=False):
     """A fingerprint of the Python code under ``root``, blind to docstrings and comments.
 
-    SHA-256 over ``ast.dump`` of every ``.py`` file (sorted by relative path,
-    docstrings removed; comments and layout never reach the syntax tree), so
-    any change that can alter what the code computes changes it, while
-    rewording documentation does not.
+    SHA-256 over the syntax tree of every ``.py`` file (sorted by relative
+    path, docstrings removed; comments and layout never reach the syntax
+    tree), so any change that can alter what the code computes changes it,
+    while rewording documentation does not. Fields a Python version leaves
+    empty are not part of the text hashed, so the fingerprint is the same on
+    Python 3.10 to 3.13.
 
     Parameters
     ----------
     root : str or path-like or None, default=None
         Folder to fingerprint; None: the installed ``sklearn_hardness`` package.
+    legacy : bool, default=False
+        The fingerprint as written before 2026-11-24 (plain ``ast.dump``),
+        which differs between Python versions (3.10 and 3.11 agree; 3.12 and
+        3.13 each give another): only to check files made then.
 
     Returns
     -------
@@ -71,12 +100,13 @@ def code_fingerprint(root=None):
     for folder, dirs, files in os.walk(root):
         dirs[:] = sorted(d for d in dirs if d != "__pycache__" and not d.startswith("."))
         paths += [os.path.join(folder, f) for f in files if f.endswith(".py")]
+    dump = ast.dump if legacy else _stable_dump
     h = hashlib.sha256()
     for path in sorted(paths, key=lambda p: os.path.relpath(p, root).replace(os.sep, "/")):
         with open(path, "rb") as f:
             tree = _strip_docstrings(ast.parse(f.read(), filename=path))
         h.update(os.path.relpath(path, root).replace(os.sep, "/").encode() + b"\0")
-        h.update(ast.dump(tree).encode() + b"\0")
+        h.update(dump(tree).encode() + b"\0")
     return h.hexdigest()[:16]
 
 
@@ -142,7 +172,7 @@ def machine_reference(matmul=True):
     -------
     machine : dict
         ``cpu`` (model name), ``cores`` (``os.cpu_count()``), ``torch_threads``,
-        ``torch``, ``numpy`` (versions), ``matmul_gflops`` (one thread,
+        ``torch``, ``numpy``, ``python`` (versions), ``matmul_gflops`` (one thread,
         float32, 2048^3; None without ``matmul``) and ``load`` (the 1-minute
         load average when measured, None where the system does not give it:
         a rate measured on a busy machine is lower).
@@ -157,6 +187,7 @@ def machine_reference(matmul=True):
         "torch_threads": torch.get_num_threads(),
         "torch": torch.__version__,
         "numpy": np.__version__,
+        "python": platform.python_version(),
         "matmul_gflops": round(matmul_gflops(), 1) if matmul else None,
         "load": load,
     }
