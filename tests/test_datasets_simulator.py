@@ -502,3 +502,30 @@ def test_everyday_markers_option_and_kinds():
 def test_everyday_bad_parameters(kwargs, error, match):
     with pytest.raises(error, match=match):
         make_presses("everyday", **kwargs)
+
+
+def test_everyday_light_spread_turns_hue_change_into_brightness_change():
+    # Three lights 120 deg apart: a tilt of the gel changes the channels in opposite directions and
+    # the grey level (their mean) hardly at all; 60 deg apart (the everyday default since issue 20,
+    # as on real sensors lit from some sides) the grey level follows the tilt. Brightness share =
+    # mean |d grey| / mean |d channel| over the pixels where a channel changed by more than 6.
+    kw = dict(n_per_class=1, n_objects=6, class_ratio=[0.001, 1, 1], image_size=(60, 80), random_state=0,
+              codec=None, noise_std=0.0, ambient_leak=0.0)
+    shares = {}
+    for spread in (120.0, 60.0):
+        d = make_presses("everyday", light_spread=spread, **kw)
+        num = den = 0.0
+        for v in d.videos:
+            if len(v) < 50:
+                continue
+            c = contact_curve(v)
+            diff = v[int(np.argmax(c))].astype(float) - v[0].astype(float)
+            changed = np.abs(diff).max(axis=-1) > 6
+            num += np.abs(diff.mean(axis=-1))[changed].sum()
+            den += np.abs(diff)[changed].mean(axis=-1).sum()
+        shares[spread] = num / den
+    assert shares[120.0] < 0.4 < 0.55 < shares[60.0]
+    with pytest.raises(ValueError, match="light_spread"):
+        make_presses("everyday", light_spread=180.0)
+    with pytest.raises(TypeError, match="Unknown simulator parameter"):
+        make_presses("silicone5", light_spread=60.0)
