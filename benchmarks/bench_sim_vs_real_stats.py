@@ -10,7 +10,11 @@ the contact start and loading frames (peak - start) found by the default
 :func:`~sklearn_hardness.preprocessing.contact_curve` (grey levels), its
 pre-contact level (median over the frames before contact), their ratio, the
 changed area at peak (share of pixels whose grey level differs from the first
-frame by more than 3) and the contact status counts.
+frame by more than 3), the brightness share of the change at peak (over the
+pixels where some channel changed by more than 6: mean absolute change of the
+grey level over mean absolute change of a channel; near 0 when the change is
+one of hue only, as under three evenly spaced coloured lights, and 1 when all
+channels change alike) and the contact status counts.
 
     python benchmarks/bench_sim_vs_real_stats.py [--data .../example_data] [--roi] [--seed 0]
         [--n-objects 42] [--param NAME=VALUE ...]
@@ -34,8 +38,9 @@ REAL_MINI = {
     "moderate": dict(start=29.0, loading=7.0, peak=2.92, pre=0.78, ratio=3.64, area=0.14),
     "hard": dict(start=27.0, loading=6.0, peak=3.71, pre=0.79, ratio=4.70, area=0.16),
 }
-COLUMNS = ("start", "loading", "peak", "pre", "ratio", "area")
-HEADERS = ("contact start", "loading frames", "peak change", "pre-contact", "peak / pre", "changed area")
+COLUMNS = ("start", "loading", "peak", "pre", "ratio", "area", "bright")
+HEADERS = ("contact start", "loading frames", "peak change", "pre-contact", "peak / pre", "changed area",
+           "brightness share")
 
 
 def press_stats(video, selection, i):
@@ -44,10 +49,15 @@ def press_stats(video, selection, i):
     start, peak_frame = int(selection.contact_start[i]), int(selection.contact_peak[i])
     pre = float(np.median(curve[1:start])) if start > 1 else float("nan")
     peak = float(curve.max())
-    grey = np.asarray(video, dtype=np.float32).mean(axis=-1)
-    area = float(np.mean(np.abs(grey[peak_frame] - grey[0]) > 3))
+    diff = np.asarray(video[peak_frame], dtype=np.float32) - np.asarray(video[0], dtype=np.float32)
+    if diff.ndim == 2:
+        diff = diff[..., None]
+    grey = np.abs(diff.mean(axis=-1))
+    area = float(np.mean(grey > 3))
+    changed = np.abs(diff).max(axis=-1) > 6
+    bright = float(grey[changed].mean() / np.abs(diff[changed]).mean()) if changed.any() else float("nan")
     return dict(start=start, loading=peak_frame - start, peak=peak, pre=pre,
-                ratio=peak / pre if pre > 0 else float("nan"), area=area,
+                ratio=peak / pre if pre > 0 else float("nan"), area=area, bright=bright,
                 status=str(selection.status[i]), frames=len(curve))
 
 
@@ -82,7 +92,8 @@ def table(groups, rows, title, reference=None):
         sub = [r for r, gg in zip(rows, groups) if gg == g]
         cells = [_q([r[c] for r in sub]) for c in COLUMNS]
         if reference is not None and g in reference:
-            cells = [f"{cell} ({reference[g][c]:.2f})" for cell, c in zip(cells, COLUMNS)]
+            cells = [f"{cell} ({reference[g][c]:.2f})" if c in reference[g] else cell
+                     for cell, c in zip(cells, COLUMNS)]
         status = ", ".join(f"{k} {v}" for k, v in sorted(Counter(r["status"] for r in sub).items()))
         lines.append(f"| {g} | {len(sub)} | " + " | ".join(cells) + f" | {status} |")
     return "\n".join(lines)

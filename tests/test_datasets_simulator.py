@@ -412,13 +412,16 @@ def test_everyday_objects_ranks_lengths_and_groups():
     assert set(np.unique(n_frames)) <= {126, 50, 3, 4, 5, 6, 7}
     assert [len(f) for f in d.force] == n_frames.tolist()
     full = n_frames == 126
-    assert np.all((d.press_params["n_before"][full] >= 30) & (d.press_params["n_before"][full] <= 40))
+    assert np.all((d.press_params["n_before"][full] >= 24) & (d.press_params["n_before"][full] <= 36))
     assert 0 < d.press_params["hand"].mean() < 1  # hand-held and robot presses
-    # soft presses load slowly (40+ frames for a good part), hard ones within a few frames
+    # soft presses load more slowly than hard ones, but within the real loading times (issue 20:
+    # real GelSight Mini presses load in 6 [3, 10] frames (hard) and 8.5 [5.25, 15] (soft), so the
+    # 40+ frames the preset gave soft presses before were too slow; now 6 and 14.5 at seed 0)
     rise = np.array([np.argmax(m["force_true"]) for m in d.mechanics]) - d.press_params["n_before"]
     soft, hard = full & (d.target == 2), full & (d.target == 0)
     assert np.median(rise[soft]) > 2 * np.median(rise[hard])
-    assert np.percentile(rise[soft], 90) >= 40
+    assert 3 <= np.median(rise[hard]) <= 10 and np.median(rise[soft]) <= 20
+    assert np.percentile(rise[soft], 90) >= 20
 
 
 @pytest.fixture(scope="module")
@@ -428,23 +431,27 @@ def everyday_curves():
 
 
 def test_everyday_matches_real_gelsight_mini_statistics(everyday_curves):
-    # Real GelSight Mini everyday-object presses (issue 10): peak mean absolute change to the first
-    # frame ~2.5-3 grey levels (hard), ~1.5-1.8 (soft); pre-contact: a jump on frame 1, a slow rise
-    # to ~1.0 over ~20 frames, dips every ~12-14 frames (codec key frames).
+    # Real GelSight Mini everyday-object presses (issue 20, real_presses_stats.md: 408 presses):
+    # peak mean absolute change to the first frame 3.71 [2.95, 4.79] grey levels (hard), 2.17
+    # [1.79, 2.70] (soft), falling with softness; pre-contact level 0.78-0.79 [0.76, 0.84]
+    # (issue 10: a jump on frame 1, a slow rise over ~20 frames, dips every ~12-14 frames, the codec's
+    # key frames). Here 21 objects at 120x160, seed 1: hard 4.25, soft 1.48; frame 1 0.70, frames
+    # 18-23 1.02 (the slow rise is smaller than before issue 20: ambient_leak 0.5, not 0.9, so that
+    # the pre-contact level matches the real 0.78 on the full preset).
     d, curves = everyday_curves
     full = d.press_params["n_frames"] == 126
     peak = np.array([c.max() for c in curves])
-    assert 2.0 <= np.median(peak[full & (d.target == 0)]) <= 3.5
-    assert 1.2 <= np.median(peak[full & (d.target == 2)]) <= 2.0
+    hard, soft = np.median(peak[full & (d.target == 0)]), np.median(peak[full & (d.target == 2)])
+    assert 2.9 <= hard <= 5.0 and 1.2 <= soft <= 2.7 and hard > 1.5 * soft
     pre = np.array([c[: 30] for c, f in zip(curves, full) if f])
     assert 0.25 <= np.median(pre[:, 1]) <= 0.8  # the jump on frame 1
-    assert 0.7 <= np.median(pre[:, 18:24]) <= 1.4  # the slow rise to ~1 grey level
-    assert np.median(pre[:, 18:24]) > 1.5 * np.median(pre[:, 1])
+    assert 0.7 <= np.median(pre[:, 18:24]) <= 1.2  # the slow rise to ~0.8-1 grey level
+    assert np.median(pre[:, 18:24]) > 1.25 * np.median(pre[:, 1])
     # mp4v puts a key frame every 12 frames: the change to frame 0 dips there
     dips = (pre[:, 12] < pre[:, 11]) & (pre[:, 24] < pre[:, 23])
     assert dips.mean() > 0.8
-    # contact starts late: the peak comes after frame 30
-    assert np.all(np.array([np.argmax(c) for c, f in zip(curves, full) if f]) > 30)
+    # contact starts late (frame 24-36): the peak comes after frame 24
+    assert np.all(np.array([np.argmax(c) for c, f in zip(curves, full) if f]) > 24)
 
 
 def test_everyday_hardness_is_not_solvable_from_the_peak_change(everyday_curves):
@@ -495,3 +502,30 @@ def test_everyday_markers_option_and_kinds():
 def test_everyday_bad_parameters(kwargs, error, match):
     with pytest.raises(error, match=match):
         make_presses("everyday", **kwargs)
+
+
+def test_everyday_light_spread_turns_hue_change_into_brightness_change():
+    # Three lights 120 deg apart: a tilt of the gel changes the channels in opposite directions and
+    # the grey level (their mean) hardly at all; 60 deg apart (the everyday default since issue 20,
+    # as on real sensors lit from some sides) the grey level follows the tilt. Brightness share =
+    # mean |d grey| / mean |d channel| over the pixels where a channel changed by more than 6.
+    kw = dict(n_per_class=1, n_objects=6, class_ratio=[0.001, 1, 1], image_size=(60, 80), random_state=0,
+              codec=None, noise_std=0.0, ambient_leak=0.0)
+    shares = {}
+    for spread in (120.0, 60.0):
+        d = make_presses("everyday", light_spread=spread, **kw)
+        num = den = 0.0
+        for v in d.videos:
+            if len(v) < 50:
+                continue
+            c = contact_curve(v)
+            diff = v[int(np.argmax(c))].astype(float) - v[0].astype(float)
+            changed = np.abs(diff).max(axis=-1) > 6
+            num += np.abs(diff.mean(axis=-1))[changed].sum()
+            den += np.abs(diff)[changed].mean(axis=-1).sum()
+        shares[spread] = num / den
+    assert shares[120.0] < 0.4 < 0.55 < shares[60.0]
+    with pytest.raises(ValueError, match="light_spread"):
+        make_presses("everyday", light_spread=180.0)
+    with pytest.raises(TypeError, match="Unknown simulator parameter"):
+        make_presses("silicone5", light_spread=60.0)

@@ -89,9 +89,11 @@ class SensorOptics:
         h, w = image_size
         self.image_size = (h, w)
         self.px_per_mm = w / params["field_of_view"]
-        # Three lights (R, G, B) 120 degrees apart, sensor-specific rotation.
+        # Three lights (R, G, B) ``light_spread`` degrees apart around the middle one (120: evenly
+        # around the gel, the summed light has no direction), sensor-specific rotation.
         rot = rng.uniform(-10, 10)
-        self.azimuth = np.deg2rad(np.array([-30.0, 90.0, 210.0]) + rot)
+        spread = float(params.get("light_spread", 120.0))
+        self.azimuth = np.deg2rad(90.0 + np.array([-spread, 0.0, spread]) + rot)
         elev = np.deg2rad(params["light_elevation"])
         self.l_xy = np.float32(np.sin(elev))
         self.l_z = np.float32(np.cos(elev))

@@ -173,6 +173,7 @@ EVERYDAY_SPECS = {
     "gel_foundation_modulus": ("float", 1e-3, 1e4, "pressure per mm of gel depth (thin-layer gel), N/mm^3"),
     "ambient_leak": ("float", 0.0, 50.0, "s.d. of the slow pre-contact change (light through the gel), grey levels"),
     "ambient_rise_frames": ("range", 0.1, 1000.0, "time constant of the pre-contact change ~ U[lo, hi], frames"),
+    "light_spread": ("float", 10.0, 120.0, "azimuth between neighbouring lights, degrees (120: evenly around the gel)"),
 }
 
 _COMMON = {
@@ -262,7 +263,7 @@ PRESETS["everyday"] = dict(
         "shoe soles, cables; marbles, mugs, phones, ruler edges, box corners, bottle caps, screws, "
         "pen tips, wood (domes of many radii, edges, ridges, small sharp contacts). A few presses per "
         "object by hand or robot at varied speed and force; mostly 126-frame videos with contact "
-        "from frame 30-40 held ~2 s, some of 50 frames, a few truncated to 3-7 frames. Calibrated "
+        "from frame 24-36 held ~2 s, some of 50 frames, a few truncated to 3-7 frames. Calibrated "
         "against real GelSight Mini recordings (see docs/simulator.md)."
     ),
     hardness=np.array([3.0, 2.0, 1.0]),
@@ -272,8 +273,8 @@ PRESETS["everyday"] = dict(
     gel_compliance=0.08,
     field_of_view=18.6,
     force_range=(1.0, 6.0),
-    speed_range=(3.0, 15.0),
-    hand_speed_range=(1.5, 8.0),
+    speed_range=(5.0, 20.0),
+    hand_speed_range=(4.0, 16.0),
     speed_unevenness=0.35,
     drive_compliance=0.3,
     force_lag_range=(0.03, 0.12),
@@ -281,25 +282,27 @@ PRESETS["everyday"] = dict(
     hold_range=(1.6, 2.4),
     retreat_speed_ratio=(0.8, 2.0),
     fps=25.0,
-    frames_before_range=(30, 40),
+    frames_before_range=(24, 36),
     force_noise=0.1,
     contact_offset=1.5,
     marker_spacing=1.6,
     noise_std=0.5,
     n_objects=42,
     class_ratio=np.array([1.0, 3.0, 3.0]),
-    soft_compliance_range=(2.0, 8.0),
+    soft_compliance_range=(1.0, 4.0),
     moderate_compliance_range=(0.2, 1.0),
     hard_compliance_range=(0.002, 0.03),
-    texture_amplitude=np.array([0.7, 0.15, 0.05]),
+    texture_amplitude=np.array([0.5, 0.15, 0.05]),
     hand_fraction=0.6,
     video_length=126,
     short_length=50,
     short_fraction=0.15,
     truncated_fraction=0.04,
     gel_foundation_modulus=0.4,
-    ambient_leak=0.9,
+    ambient_leak=0.5,
     ambient_rise_frames=(5.0, 9.0),
+    light_spread=60.0,
+    light_elevation=80.0,
 )
 
 _NON_PHYSICAL = ("description", "hardness_unit", "n_per_class")

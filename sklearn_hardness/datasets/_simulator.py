@@ -261,7 +261,7 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=None, image_si
         in three hardness ranks ``hard``, ``moderate``, ``soft`` (objects
         ~ 3 : 3 : 1), 4 presses per object by hand or robot, marker-less
         GelSight Mini videos of mostly 126 frames with contact from frame
-        30-40, passed through the ``mp4v`` codec; calibrated against real
+        24-36, passed through the ``mp4v`` codec; calibrated against real
         recordings (``docs/simulator.md``). Classes are the ranks, and
         ``object_id`` says which object each press is of: evaluate it with
         folds grouped by object.
