@@ -59,7 +59,7 @@ def test_code_fingerprint_follows_code_not_docs(tmp_path):
 
 def test_provenance_header_is_one_line_that_reads_back():
     machine = machine_reference(matmul=False)
-    assert set(machine) == {"cpu", "cores", "torch_threads", "torch", "numpy", "matmul_gflops", "load"}
+    assert set(machine) == {"cpu", "cores", "torch_threads", "python", "torch", "numpy", "matmul_gflops", "load"}
     line = provenance_header("sklearn-hardness reproduce --quick", config_hash="abc", machine=machine,
                              date="2026-01-01T00:00Z", commit="f00")
     assert "\n" not in line
