@@ -677,7 +677,8 @@ def _run_reproduce(args):
 
 #: Names the parser offers without importing the library (tests check them against it).
 _SIM_PRESETS = ("everyday", "shore9", "silicone5")  # datasets.make_presses
-_PIPELINES = ("peak_change", "contact_profile", "convlstm", "ofnn", "dinov2nn")  # experiments.evaluate_pipelines
+_PIPELINES = ("peak_change", "contact_profile", "contact_profile_nn", "convlstm", "ofnn", "dinov2nn")  # experiments.evaluate_pipelines
+_DEFAULT_PIPELINES = ("contact_profile", "contact_profile_nn", "convlstm", "ofnn")  # its DEFAULT_PIPELINES
 
 _SIM_FORMATS = {"avi": ".avi", "mp4": ".mp4", "png": "", "npy": ".npy"}
 
@@ -778,8 +779,8 @@ def _add_evaluate(sub):
     )
     p.add_argument("dataset", help="a manifest.csv (or its folder), or a simulator preset "
                    f"({', '.join(_SIM_PRESETS)})")
-    p.add_argument("--pipelines", nargs="*", default=["convlstm", "ofnn"], choices=_PIPELINES,
-                   metavar="NAME", help=f"among {', '.join(_PIPELINES)} (default: convlstm ofnn); "
+    p.add_argument("--pipelines", nargs="*", default=list(_DEFAULT_PIPELINES), choices=_PIPELINES,
+                   metavar="NAME", help=f"among {', '.join(_PIPELINES)} (default: {' '.join(_DEFAULT_PIPELINES)}); "
                    "the peak_change baseline is always added")
     p.add_argument("--cv", type=_int_type(2, what="an integer >= 2"), default=5,
                    help="number of object-disjoint folds (default 5)")
@@ -797,7 +798,13 @@ def _run_evaluate(args):
 
     import numpy as np
 
-    from .experiments import evaluate_pipelines, format_evaluation, plot_confusion_matrices
+    from .experiments import (
+        evaluate_pipelines,
+        format_evaluation,
+        parse_provenance,
+        plot_confusion_matrices,
+        provenance_header,
+    )
 
     _check_out_dir(args.out)
     if args.dataset not in _SIM_PRESETS and not os.path.exists(args.dataset):
@@ -809,16 +816,21 @@ def _run_evaluate(args):
     with _user_errors():
         result = evaluate_pipelines(args.dataset, args.pipelines, cv=args.cv, error_score=np.nan,
                                     n_jobs=args.n_jobs, random_state=args.seed)
-    print(format_evaluation(result))
+    table = format_evaluation(result)
+    print(table)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    # what made the table: the command (less where its output goes), code fingerprint, machine
+    provenance = provenance_header(_reproduce_command(getattr(args, "argv", None) or sys.argv[1:]))
+    (out / "evaluation.txt").write_text(provenance + "\n" + table + "\n")
     plot_confusion_matrices(result, out / "confusion_matrices.png")
     rows = [{k: (list(v) if isinstance(v, tuple) else v) for k, v in r.items()} for r in result.table]
     (out / "evaluation.json").write_text(json.dumps(
         {"table": rows, "fold_scores": {k: v.tolist() for k, v in result.fold_scores.items()},
-         "target_names": result.target_names.tolist()}, indent=1))
+         "target_names": result.target_names.tolist(), "provenance": parse_provenance(provenance)}, indent=1))
     if not args.quiet:
-        print(f"wrote {out / 'confusion_matrices.png'} and {out / 'evaluation.json'}", file=sys.stderr)
+        print(f"wrote {out / 'evaluation.txt'}, {out / 'confusion_matrices.png'} and {out / 'evaluation.json'}",
+              file=sys.stderr)
     return 0
 
 

@@ -46,3 +46,14 @@ def synthetic_press(
 
 def no_contact(n_frames=20, size=(48, 64), seed=0):
     return synthetic_press(n_frames=n_frames, size=size, contact_start=n_frames + 1, peak=n_frames + 2, seed=seed)
+
+
+def growing_disc_press(rise, radius, rng, n=60, start=15, level=40):
+    """A 32x32 press: a disc growing to ``radius`` over ``rise`` frames from ``start``, then held, on noise."""
+    video = np.full((n, 32, 32, 3), 100.0)
+    yy, xx = np.mgrid[:32, :32]
+    for t in range(start, n):
+        r = radius * min(1.0, (t - start + 1) / rise)
+        video[t][(yy - 16) ** 2 + (xx - 16) ** 2 <= r * r] += level
+    video += rng.normal(0, 1.0, video.shape)
+    return np.clip(video, 0, 255).astype(np.uint8)

@@ -45,6 +45,7 @@ from sklearn.utils import estimator_checks as ec
 from sklearn_hardness.active import ActiveLearner
 from sklearn_hardness.features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
 from sklearn_hardness.models import (
+    ContactProfileNNClassifier,
     ConvLSTMClassifier,
     DINOv2NNClassifier,
     EnsembleClassifier,
@@ -89,6 +90,10 @@ ESTIMATORS = {
         lambda: DINOv2NNClassifier(hidden_units=16, lr=3e-2, max_epochs=5, batch_size=64, random_state=0),
         "table",
     ),
+    "ContactProfileNNClassifier": (
+        lambda: ContactProfileNNClassifier(hidden_units=16, lr=3e-2, max_epochs=5, batch_size=64, random_state=0),
+        "table",
+    ),
     "ConvLSTMClassifier": (lambda: ConvLSTMClassifier(filters=(2,), max_epochs=2, random_state=0), "frames"),
     "EnsembleClassifier": (lambda: EnsembleClassifier(_ofnn(), n_estimators=2, random_state=0), "table"),
     "ActiveLearner": (
@@ -126,6 +131,9 @@ EXPECTED_FAILED_CHECKS = {
         **_NET_2D_MESSAGES,
     },
     "DINOv2NNClassifier": {
+        **_NET_2D_MESSAGES,
+    },
+    "ContactProfileNNClassifier": {
         **_NET_2D_MESSAGES,
     },
     "ActiveLearner": {

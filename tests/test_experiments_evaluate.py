@@ -111,6 +111,13 @@ def test_cli_evaluate_on_a_manifest(tmp_path, capsys, monkeypatch):
     assert (out / "confusion_matrices.png").stat().st_size > 1000
     saved = json.loads((out / "evaluation.json").read_text())
     assert saved["target_names"] == ["hard", "moderate", "soft"] and len(saved["fold_scores"]["peak_change"]) == 3
+    # the saved table says what made it: the command less --out, and the code that ran
+    from sklearn_hardness.experiments import code_fingerprint, parse_provenance
+
+    record = parse_provenance((out / "evaluation.txt").read_text())
+    assert record["command"] == f"sklearn-hardness evaluate {root / 'manifest.csv'} --pipelines --cv 3"
+    assert record["code_fingerprint"] == code_fingerprint() and saved["provenance"] == record
+    assert "object-disjoint 3-fold CV" in (out / "evaluation.txt").read_text()
     with pytest.raises(SystemExit, match="2"):
         main(["evaluate", str(tmp_path / "missing.csv"), "--pipelines"])
     assert "neither a simulator preset" in capsys.readouterr().err

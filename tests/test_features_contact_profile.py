@@ -12,16 +12,11 @@ from sklearn.utils._param_validation import InvalidParameterError
 from sklearn_hardness.experiments import evaluate_pipelines, peak_contact_change
 from sklearn_hardness.features import ContactProfileFeatures
 
+from ._synthetic import growing_disc_press
 
-def _press(rise, radius, rng, n=60, start=15, level=40):
-    """A disc growing to ``radius`` over ``rise`` frames, then held, on a noisy background."""
-    video = np.full((n, 32, 32, 3), 100.0)
-    yy, xx = np.mgrid[:32, :32]
-    for t in range(start, n):
-        r = radius * min(1.0, (t - start + 1) / rise)
-        video[t][(yy - 16) ** 2 + (xx - 16) ** 2 <= r * r] += level
-    video += rng.normal(0, 1.0, video.shape)
-    return np.clip(video, 0, 255).astype(np.uint8)
+
+def _press(rise, radius, rng):
+    return growing_disc_press(rise, radius, rng)
 
 
 def test_shape_names_and_short_videos():

@@ -4,8 +4,14 @@ Object-disjoint 5-fold CV on the default ``everyday`` preset, as
 ``sklearn-hardness evaluate everyday`` runs it, but with each pipeline's
 stateless front (frame selection, optical flow) computed once instead of per
 fold, and seeded nets. The default inputs must beat the one-number baseline
-by 0.10 balanced accuracy, and beat the paper's inputs (same nets, same class
-weights) -- the effect the new inputs exist for.
+by 0.10 balanced accuracy, and so must the contact-profile pipeline with its
+MC-dropout head (the input that beat the baseline on real recordings). The OFNN's magnitude quantiles must beat the
+paper's flattened tracks (same net, same class weights), the effect they exist
+for. The ConvLSTM's intensity channels are not asserted against the paper's
+frames: on the calibrated preset (issue 20) the two differ by less than the
+spread of one seed's training across float paths (0.868 against 0.808 on one
+2-core machine, 0.814 against 0.8125 on CI's), and on real recordings of
+unseen objects neither beat the one-number baseline.
 """
 
 import warnings
@@ -19,12 +25,13 @@ from sklearn.pipeline import make_pipeline
 
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.experiments import make_peak_change_baseline, peak_contact_change
-from sklearn_hardness.features import OpticalFlowFeatures
+from sklearn_hardness.features import ContactProfileFeatures, OpticalFlowFeatures
 from sklearn_hardness.models import (
     ConvLSTMClassifier,
     FrameScaler,
     IntensityChannels,
     OFNNClassifier,
+    make_contact_profile_pipeline,
     make_convlstm_pipeline,
     make_ofnn_pipeline,
 )
@@ -49,22 +56,24 @@ def everyday():
         flow = {out: OpticalFlowFeatures(output=out, n_jobs=2).fit_transform(raw)
                 for out in ("tracks", "magnitude_quantiles")}
     peak = peak_contact_change(data.videos)
-    return data, np.asarray(data.target), np.asarray(data.object_id), frames, flow, peak
+    profile = ContactProfileFeatures(n_jobs=2).fit_transform(data.videos)
+    return data, np.asarray(data.target), np.asarray(data.object_id), frames, flow, peak, profile
 
 
 @pytest.mark.slow
 def test_ready_made_nets_beat_the_one_number_baseline_on_unseen_objects(everyday):
-    data, y, groups, frames, flow, peak = everyday
+    data, y, groups, frames, flow, peak, profile = everyday
     baseline = _cv(make_peak_change_baseline()[1:], peak, y, groups)  # scaler + balanced logistic regression
     assert 0.35 < baseline < 0.55
 
     net = dict(class_weight="balanced", random_state=0)
     convlstm = _cv(make_pipeline(FrameScaler(), IntensityChannels(), ConvLSTMClassifier(**net)), frames, y, groups)
-    convlstm_paper = _cv(make_pipeline(FrameScaler(), ConvLSTMClassifier(**net)), frames, y, groups)
     ofnn = _cv(OFNNClassifier(**net), flow["magnitude_quantiles"], y, groups)
     ofnn_paper = _cv(OFNNClassifier(**net), flow["tracks"], y, groups)
-    scores = dict(baseline=baseline, convlstm=convlstm, convlstm_paper=convlstm_paper, ofnn=ofnn,
-                  ofnn_paper=ofnn_paper)
+    contact_profile_nn = _cv(make_contact_profile_pipeline(random_state=0)[1:], profile, y, groups)
+    scores = dict(baseline=baseline, convlstm=convlstm, ofnn=ofnn, ofnn_paper=ofnn_paper,
+                  contact_profile_nn=contact_profile_nn)
+    assert contact_profile_nn >= baseline + 0.10, scores
     assert convlstm >= baseline + 0.10, scores
     assert ofnn >= baseline + 0.10, scores
-    assert convlstm > convlstm_paper + 0.05 and ofnn > ofnn_paper + 0.05, scores
+    assert ofnn > ofnn_paper + 0.05, scores

@@ -39,7 +39,9 @@ __all__ = [
 ]
 
 #: Pipelines known by name (``"peak_change"`` is the one-number baseline).
-PIPELINE_NAMES = ("peak_change", "contact_profile", "convlstm", "ofnn", "dinov2nn")
+PIPELINE_NAMES = ("peak_change", "contact_profile", "contact_profile_nn", "convlstm", "ofnn", "dinov2nn")
+#: What ``pipelines=None`` runs: the inputs that carry over to new objects on real recordings first.
+DEFAULT_PIPELINES = ("contact_profile", "contact_profile_nn", "convlstm", "ofnn")
 
 
 def peak_contact_change(videos, roi=None):
@@ -134,10 +136,9 @@ def _named_pipeline(name, seed=None):
     if name == "peak_change":
         return make_peak_change_baseline()
     if name == "contact_profile":
-        from ..features import ContactProfileFeatures
-
-        return make_pipeline(ContactProfileFeatures(), StandardScaler(),
-                             LogisticRegression(class_weight="balanced", max_iter=2000))
+        return models.make_contact_profile_pipeline(head="logistic")
+    if name == "contact_profile_nn":
+        return models.make_contact_profile_pipeline(random_state=seed)
     if name == "convlstm":
         # the test objects are never seen in training here: the input that carries over to them
         return models.make_convlstm_pipeline(intensity_channels=True, random_state=seed)
@@ -231,11 +232,16 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
     pipelines : dict, list of str or None, default=None
         ``{name: estimator}``, or names among ``"peak_change"``,
         ``"contact_profile"`` (:class:`~sklearn_hardness.features.ContactProfileFeatures`
-        + balanced logistic regression), ``"convlstm"``, ``"ofnn"``,
+        + balanced logistic regression), ``"contact_profile_nn"`` (the same
+        features + :class:`~sklearn_hardness.models.ContactProfileNNClassifier`,
+        which has ``predict_proba_samples``), ``"convlstm"``, ``"ofnn"``,
         ``"dinov2nn"`` (the ready-made pipelines of
-        :mod:`sklearn_hardness.models` at their defaults, the ConvLSTM with
-        ``intensity_channels=True``, its input for unseen objects).
-        None: ``["convlstm", "ofnn"]``.
+        :mod:`sklearn_hardness.models`, built by their ``make_*_pipeline``
+        factories, the ConvLSTM with ``intensity_channels=True``).
+        None: ``["contact_profile", "contact_profile_nn", "convlstm", "ofnn"]``;
+        on real recordings of unseen objects the contact-profile features were
+        the input that beat the one-number baseline (issue 20), so they run
+        by default beside the paper's nets.
     cv : int, default=5
         Number of folds. Every class needs at least ``cv`` objects.
     baseline : bool, default=True
@@ -303,7 +309,7 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
                          "object each press is of (add an object_id column to the manifest).")
     groups = np.asarray(groups)
     if pipelines is None:
-        pipelines = ["convlstm", "ofnn"]
+        pipelines = list(DEFAULT_PIPELINES)
     if isinstance(pipelines, dict):
         named = {str(k): v for k, v in pipelines.items()}
     else:
@@ -380,13 +386,14 @@ def format_evaluation(result):
     base = next((r["balanced_accuracy"] for r in result.table if r["pipeline"] == "peak_change"), None)
     n_folds = result.table[0]["n_folds"] if result.table else 0
     lines = [f"object-disjoint {n_folds}-fold CV, {len(np.unique(result.groups))} objects, "
-             f"{len(result.target)} presses, chance {result.chance:.2f}",
-             f"{'pipeline':<16} {'bal. accuracy [95% CI]':<24} {'MAE':>6} {'vs peak':>8} {'time s':>8}"]
+             f"{len(result.target)} presses, chance {result.chance:.2f}"]
+    width = max([16] + [len(str(r["pipeline"])) for r in result.table])  # long names keep the columns
+    lines.append(f"{'pipeline':<{width}} {'bal. accuracy [95% CI]':<24} {'MAE':>6} {'vs peak':>8} {'time s':>8}")
     for r in result.table:
         lo, hi = r["balanced_accuracy_ci"]
         mae = "-" if r["mae"] is None else f"{r['mae']:.2f}"
         delta = "" if base is None or r["pipeline"] == "peak_change" else f"{r['balanced_accuracy'] - base:+.2f}"
-        lines.append(f"{r['pipeline']:<16} {r['balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]{'':<7} "
+        lines.append(f"{r['pipeline']:<{width}} {r['balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]{'':<7} "
                      f"{mae:>6} {delta:>8} {r['fit_predict_seconds']:>8.1f}")
         if r["error"]:
             lines.append(f"  error: {r['error']}")

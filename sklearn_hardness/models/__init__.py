@@ -2,6 +2,8 @@
 
 * :class:`OFNNClassifier`: MLP head on optical-flow features.
 * :class:`DINOv2NNClassifier`: MLP head on frozen DINOv2 features.
+* :class:`ContactProfileNNClassifier`: MLP head on contact-profile features of the
+  loading phase (the input that carries over to new objects).
 * :class:`ConvLSTMClassifier`: ConvLSTM trained end to end on selected frames.
 * :class:`EnsembleClassifier`: differently seeded copies of a classifier, whose
   spread replaces MC dropout as the source of ``predict_proba_samples``.
@@ -20,19 +22,28 @@ from ._ensemble import EnsembleClassifier
 from ._intensity_channels import IntensityChannels
 from ._mc_dropout import MCDropoutClassifierBase
 from ._mc_sampling import MCDropout
-from ._mlp import DINOv2NNClassifier, MLPHead, OFNNClassifier
-from ._pipelines import FrameScaler, MCDropoutPipeline, make_convlstm_pipeline, make_dinov2nn_pipeline, make_ofnn_pipeline
+from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, MLPHead, OFNNClassifier
+from ._pipelines import (
+    FrameScaler,
+    MCDropoutPipeline,
+    make_contact_profile_pipeline,
+    make_convlstm_pipeline,
+    make_dinov2nn_pipeline,
+    make_ofnn_pipeline,
+)
 from ._stacked import StackedConvLSTMNet
 
 __all__ = [
     "make_convlstm_pipeline",
     "make_ofnn_pipeline",
     "make_dinov2nn_pipeline",
+    "make_contact_profile_pipeline",
     "FrameScaler",
     "IntensityChannels",
     "MCDropoutPipeline",
     "OFNNClassifier",
     "DINOv2NNClassifier",
+    "ContactProfileNNClassifier",
     "ConvLSTMClassifier",
     "EnsembleClassifier",
     "MLPHead",

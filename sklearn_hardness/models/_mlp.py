@@ -12,7 +12,7 @@ from sklearn.utils.validation import check_array
 from ._mc_dropout import MCDropoutClassifierBase
 from ._mc_sampling import MCDropout
 
-__all__ = ["MLPHead", "OFNNClassifier", "DINOv2NNClassifier"]
+__all__ = ["MLPHead", "OFNNClassifier", "DINOv2NNClassifier", "ContactProfileNNClassifier"]
 
 
 class MLPHead(torch.nn.Module):
@@ -106,7 +106,7 @@ class _MLPClassifier(MCDropoutClassifierBase):
             raise ValueError(
                 f"{type(self).__name__} expects a 2-D array of features (n_samples, n_features); "
                 f"got shape {X.shape}. Turn selected frames (n, k, H, W, C) into features first "
-                "(OpticalFlowFeatures or DINOv2Features), or use ConvLSTMClassifier."
+                "(OpticalFlowFeatures, DINOv2Features or ContactProfileFeatures), or use ConvLSTMClassifier."
             )
         if reset:
             self.n_features_in_ = X.shape[1]
@@ -293,3 +293,119 @@ class DINOv2NNClassifier(_MLPClassifier):
     >>> clf.predict_proba(X[:2]).shape
     (2, 3)
     """
+
+
+class ContactProfileNNClassifier(_MLPClassifier):
+    """Contact-profile features + MLP head with MC dropout.
+
+    Input: 2-D features of the loading phase, e.g. the ten columns of
+    :class:`sklearn_hardness.features.ContactProfileFeatures` (peak change,
+    loading time, contact area, how area grows with intensity, ...), which
+    carry hardness across object shapes better than the frames themselves.
+    Same head as :class:`OFNNClassifier` (Linear -> ReLU -> dropout ->
+    Linear), sized for a handful of features: a narrower hidden layer, a
+    higher learning rate and more epochs, so that
+    :meth:`predict_proba_samples` gives MC-dropout samples for active
+    sampling on the features that generalise to new objects.
+    Standardise the features first (``StandardScaler``), as
+    :func:`~sklearn_hardness.models.make_contact_profile_pipeline` does.
+
+    Parameters
+    ----------
+    module : torch.nn.Module class, default=MLPHead
+        Network; built at fit with ``input_dim``, ``n_classes``,
+        ``hidden_units`` and ``dropout``. Its ``forward`` takes
+        ``(X, n_replicas=1)``.
+    hidden_units : int, default=64
+        Width of the hidden layer.
+    dropout : float, default=0.2
+        Dropout probability after the hidden layer; a plain parameter, so
+        ``GridSearchCV(pipe, {"clf__dropout": [...]})`` works.
+    class_weight : dict, "balanced" or None, default=None
+        Weights of the classes in the loss, as in scikit-learn.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the initial weights, the shuffling and the training dropout
+        masks (without touching torch's global generator).
+    criterion : torch criterion class, default=torch.nn.CrossEntropyLoss
+    optimizer : torch optimizer class, default=torch.optim.Adam
+    lr : float, default=3e-3
+    max_epochs : int, default=100
+        Epochs of :meth:`fit`; ``partial_fit(X, y, epochs=...)`` continues.
+    batch_size : int, default=32
+    train_split : callable or None, default=None
+        None trains on all of ``X``; see skorch.
+    classes : array-like or None, default=None
+        All labels, if ``y`` may not contain every class.
+    verbose : int, default=0
+    device : {"cpu", "cuda", "auto"} or str, default="cpu"
+    **kwargs
+        Other skorch parameters (``callbacks``, ``optimizer__*``, ...).
+
+    Attributes
+    ----------
+    classes_ : ndarray of shape (n_classes,)
+        Class labels.
+    n_features_in_ : int
+        Number of features seen during fit.
+    module_ : MLPHead
+        The trained network.
+    history_ : skorch.History
+        Per-epoch training loss (``train_loss``).
+    class_weight_ : ndarray of shape (n_classes,) or None
+        Weights of the classes in the loss.
+    final_train_loss_ : float
+        Training loss of the last epoch.
+
+    See Also
+    --------
+    make_contact_profile_pipeline : Videos to this classifier in one pipeline.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.models import ContactProfileNNClassifier
+    >>> rng = np.random.default_rng(0)
+    >>> X = rng.normal(size=(30, 10)).astype("float32")
+    >>> y = np.repeat([0, 1, 2], 10)
+    >>> X[y == 2, 0] += 2
+    >>> clf = ContactProfileNNClassifier(max_epochs=20, random_state=0).fit(X, y)
+    >>> clf.predict_proba_samples(X[:4], n_samples=10, random_state=0).shape
+    (10, 4, 3)
+    """
+
+    def __init__(
+        self,
+        module=MLPHead,
+        *,
+        hidden_units=64,
+        dropout=0.2,
+        class_weight=None,
+        random_state=None,
+        criterion=torch.nn.CrossEntropyLoss,
+        optimizer=torch.optim.Adam,
+        lr=3e-3,
+        max_epochs=100,
+        batch_size=32,
+        train_split=None,
+        classes=None,
+        verbose=0,
+        device="cpu",
+        **kwargs,
+    ):
+        super().__init__(
+            module,
+            hidden_units=hidden_units,
+            dropout=dropout,
+            class_weight=class_weight,
+            random_state=random_state,
+            criterion=criterion,
+            optimizer=optimizer,
+            lr=lr,
+            max_epochs=max_epochs,
+            batch_size=batch_size,
+            train_split=train_split,
+            classes=classes,
+            verbose=verbose,
+            device=device,
+            **kwargs,
+        )

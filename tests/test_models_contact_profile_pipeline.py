@@ -1,0 +1,86 @@
+"""make_contact_profile_pipeline and ContactProfileNNClassifier (issue 20).
+
+The features of the loading phase with an MC-dropout head: the pipeline must
+separate what the one-number baseline cannot, give Monte-Carlo samples for
+active sampling, and run under its name in ``evaluate``.
+"""
+
+import numpy as np
+import pytest
+from sklearn.base import clone
+from sklearn.linear_model import LogisticRegression
+from sklearn.model_selection import StratifiedKFold, cross_val_score
+
+from sklearn_hardness.experiments import evaluate_pipelines, format_evaluation, make_peak_change_baseline
+from sklearn_hardness.models import ContactProfileNNClassifier, MCDropoutPipeline, make_contact_profile_pipeline
+
+from ._synthetic import growing_disc_press
+
+
+def _press(rise, radius, rng):
+    return growing_disc_press(rise, radius, rng, n=50, start=12)
+
+
+@pytest.fixture(scope="module")
+def slow_and_fast():
+    """Soft presses load slowly, hard ones fast, at the same peak change (what one number cannot see)."""
+    rng = np.random.default_rng(1)
+    X, y = [], []
+    for i in range(36):
+        soft = i % 2
+        X.append(_press(int(rng.integers(25, 36)) if soft else int(rng.integers(2, 6)),
+                        float(rng.uniform(5, 9)), rng))
+        y.append(soft)
+    return X, np.array(y)
+
+
+def test_nn_head_separates_what_the_peak_change_cannot(slow_and_fast):
+    X, y = slow_and_fast
+    cv = StratifiedKFold(3, shuffle=True, random_state=0)
+    pipe = make_contact_profile_pipeline(random_state=0)
+    assert isinstance(pipe, MCDropoutPipeline)
+    assert isinstance(pipe.named_steps["clf"], ContactProfileNNClassifier)
+    assert pipe.named_steps["clf"].class_weight == "balanced"
+    assert cross_val_score(pipe, X, y, cv=cv).mean() >= 0.9
+    assert cross_val_score(make_contact_profile_pipeline(head="logistic"), X, y, cv=cv).mean() >= 0.9
+    assert cross_val_score(make_peak_change_baseline(), X, y, cv=cv).mean() <= 0.75
+
+
+def test_nn_head_gives_mc_dropout_samples_the_logistic_head_does_not(slow_and_fast):
+    X, y = slow_and_fast
+    pipe = make_contact_profile_pipeline(random_state=0).fit(X, y)
+    samples = pipe.predict_proba_samples(X[:6], n_samples=20, random_state=0)
+    assert samples.shape == (20, 6, 2)
+    np.testing.assert_allclose(samples.sum(axis=-1), 1.0, rtol=1e-5)
+    assert samples.std(axis=0).max() > 1e-3  # dropout is on: the passes differ
+    np.testing.assert_allclose(pipe.predict_proba_samples(X[:6], n_samples=20, random_state=0), samples)
+    logistic = make_contact_profile_pipeline(head="logistic").fit(X, y)
+    assert isinstance(logistic.named_steps["clf"], LogisticRegression)
+    assert logistic.named_steps["clf"].max_iter == 2000
+    assert not hasattr(logistic, "predict_proba_samples")
+
+
+def test_parameters_reach_their_steps_and_clone():
+    pipe = make_contact_profile_pipeline(max_side=40, hidden_units=8, dropout=0.5, class_weight=None)
+    assert pipe.named_steps["features"].max_side == 40
+    clf = pipe.named_steps["clf"]
+    assert (clf.hidden_units, clf.dropout, clf.class_weight) == (8, 0.5, None)
+    assert clone(pipe).get_params()["clf__hidden_units"] == 8
+    defaults = ContactProfileNNClassifier()
+    assert (defaults.hidden_units, defaults.lr, defaults.max_epochs) == (64, 3e-3, 100)
+    with pytest.raises(ValueError, match="head must be 'nn' or 'logistic'"):
+        make_contact_profile_pipeline(head="svm")
+
+
+def test_contact_profile_nn_runs_by_name_in_evaluate():
+    from sklearn_hardness.datasets import make_presses
+
+    d = make_presses("everyday", n_per_class=2, n_objects=9, class_ratio=[1, 1, 1], image_size=(32, 40),
+                     codec=None, random_state=0)
+    result = evaluate_pipelines(d, ["contact_profile", "contact_profile_nn"], cv=3, verbose=0)
+    assert [r["pipeline"] for r in result.table] == ["peak_change", "contact_profile", "contact_profile_nn"]
+    assert all(np.isfinite(r["balanced_accuracy"]) for r in result.table)
+    assert result.predictions["contact_profile_nn"].shape == (len(d.target),)
+    # the longer name keeps the table's columns: accuracies start in one column
+    rows = format_evaluation(result).splitlines()[2:]
+    assert len({row.index(" 0.") if " 0." in row else row.index(" 1.") for row in rows}) == 1
