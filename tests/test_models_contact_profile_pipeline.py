@@ -84,3 +84,22 @@ def test_contact_profile_nn_runs_by_name_in_evaluate():
     # the longer name keeps the table's columns: accuracies start in one column
     rows = format_evaluation(result).splitlines()[2:]
     assert len({row.index(" 0.") if " 0." in row else row.index(" 1.") for row in rows}) == 1
+
+
+def test_active_learner_runs_on_the_pipeline_from_videos():
+    """Active sampling (Algorithm 1) with the contact-profile pipeline: videos in, a right decision out."""
+    from sklearn_hardness.active import ActiveLearner, PressOracle
+
+    rng = np.random.default_rng(0)
+    y = np.repeat([0, 1, 2], 8)  # three loading speeds
+    X = np.stack([growing_disc_press([3, 15, 30][c], 7, rng, n=45, start=10) for c in y])
+    oracle = PressOracle(X, y, random_state=0)
+    X_test, y_test = oracle.press(2, 4)
+    learner = ActiveLearner(make_contact_profile_pipeline(random_state=0), "entropy", initial_epochs=30,
+                            epochs_per_query=10, n_mc_samples=8, random_state=0).fit(*oracle.initial(3))
+    for _ in range(2):
+        idx, scores = learner.query(X_test)
+        assert scores.shape == (3,)
+        learner.teach(*oracle.press(learner.classes_[idx[0]], 2))
+    assert learner.n_presses_ == 4
+    assert learner.score(X_test, y_test) == 1.0
