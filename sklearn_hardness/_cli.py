@@ -366,7 +366,7 @@ def _run_record(args):
 
 
 def _quick_help():
-    from .experiments import QUICK_OVERRIDES
+    from ._experiment_names import QUICK_OVERRIDES  # no torch: --help stays fast
 
     return ("a first look in a few minutes on 2 cores; changes: "
             + ", ".join(f"{k}={v}" for k, v in QUICK_OVERRIDES.items())
@@ -374,18 +374,18 @@ def _quick_help():
 
 
 def _strategies_help():
-    from .experiments import STRATEGIES
+    from ._experiment_names import STRATEGIES
 
     return f"strategies to compare (default: {' '.join(STRATEGIES)})"
 
 
 def _config_keys_epilog():
     """The ``--set`` keys with their meaning, from the table that also writes get_config's docstring."""
-    from .experiments._config import _KEY_HELP
+    from ._experiment_names import KEY_HELP
 
-    width = max(map(len, _KEY_HELP))
+    width = max(map(len, KEY_HELP))
     return "configuration keys for --set (sklearn_hardness.experiments.get_config):\n" + "\n".join(
-        f"  {key:<{width}}  {meaning}" for key, meaning in _KEY_HELP.items())
+        f"  {key:<{width}}  {meaning}" for key, meaning in KEY_HELP.items())
 
 
 _README_START = "<!-- reproduce-quick-table: start -->"

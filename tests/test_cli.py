@@ -138,10 +138,11 @@ def test_missing_camera_output_is_one_line_in_a_real_process(tmp_path):
 
 
 def test_building_the_parser_imports_neither_torch_nor_sklearn():
-    # the cause of a slow --help: what building the parser and the top-level help import
+    # the cause of a slow --help: what building the parser and the help texts import
+    # (reproduce --help lists the --set keys, strategies and quick changes: sklearn_hardness._experiment_names)
     code = ("import sys, contextlib, io, sklearn_hardness._cli as c\n"
             "with contextlib.redirect_stdout(io.StringIO()):\n"
-            "    for argv in (['--help'], ['--version']):\n"
+            "    for argv in (['--help'], ['--version'], ['reproduce', '--help'], ['evaluate', '--help']):\n"
             "        try:\n"
             "            c.main(argv)\n"
             "        except SystemExit:\n"

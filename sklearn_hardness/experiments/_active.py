@@ -10,6 +10,7 @@ import zlib
 import joblib
 import numpy as np
 
+from .._experiment_names import STRATEGIES
 from ._config import check_config, config_hash, get_config, resolve_convergence_threshold
 from ._data import _dataset_spec, describe_model, load_dataset, make_estimator, prepare_inputs
 from ._results import ExperimentResult, ResultsStore
@@ -17,8 +18,6 @@ from ._runner import run_tasks
 
 __all__ = ["run_active_sampling", "planned_config_hash", "STRATEGIES"]
 
-#: The strategies compared by default (BALD is our addition to the paper's three).
-STRATEGIES = ("variance", "entropy", "random", "bald")
 
 
 def _seeds(seed, test_class, n, test_object=None):
