@@ -443,7 +443,7 @@ def _add_reproduce(sub):
                    help="manifest CSV of real recordings (see load_press_videos; with an object_id "
                    "column and several objects per class the runs are object-disjoint) or 'everyday' "
                    "(simulated everyday objects); default: the simulator with the preset's objects")
-    p.add_argument("--model", default=None, choices=["convlstm", "ofnn", "dinov2nn"],
+    p.add_argument("--model", default=None, choices=_MODELS,
                    help="classifier (default: the preset's)")
     p.add_argument("--dinov2-model", default=None,
                    help="DINOv2 weights for dinov2nn: a Hugging Face id in the local cache or a local "
@@ -677,6 +677,7 @@ def _run_reproduce(args):
 
 #: Names the parser offers without importing the library (tests check them against it).
 _SIM_PRESETS = ("everyday", "shore9", "silicone5")  # datasets.make_presses
+_MODELS = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn")  # experiments.MODEL_NAMES
 _PIPELINES = ("peak_change", "contact_profile", "contact_profile_nn", "convlstm", "ofnn", "dinov2nn")  # experiments.evaluate_pipelines
 _DEFAULT_PIPELINES = ("contact_profile", "contact_profile_nn", "convlstm", "ofnn")  # its DEFAULT_PIPELINES
 
@@ -844,7 +845,7 @@ def _add_benchmark(sub):
     )
     p.add_argument("--preset", default="silicone5", choices=["silicone5", "shore9"],
                    help="the paper's setup whose presses and hyperparameters are used (default silicone5)")
-    p.add_argument("--model", default=None, choices=["convlstm", "ofnn", "dinov2nn"],
+    p.add_argument("--model", default=None, choices=_MODELS,
                    help="classifier (default: the preset's)")
     p.add_argument("--strategy", default="variance",
                    help="query strategy: variance (default), entropy, random or bald")

@@ -25,7 +25,8 @@ QUICK_OVERRIDES = {
 
 #: One line per configuration key: get_config's docstring and ``reproduce --help`` are made from it.
 KEY_HELP = {
-    "model": "classifier: convlstm (silicone5), ofnn or dinov2nn (shore9)",
+    "model": "classifier: convlstm (silicone5), ofnn or dinov2nn (shore9), or contact_profile_nn "
+             "(ContactProfileFeatures of the whole video + an MC-dropout MLP, standardised per run)",
     "n_initial": "s0: presses per reference object in the initial training set",
     "n_per_query": "s: presses of the queried object added per iteration",
     "n_iterations": "N: active-sampling iterations",

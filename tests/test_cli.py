@@ -153,13 +153,15 @@ def test_building_the_parser_imports_neither_torch_nor_sklearn():
 
 
 def test_names_offered_by_the_parser_are_the_library_s():
-    from sklearn_hardness._cli import _DEFAULT_PIPELINES, _PIPELINES, _SIM_PRESETS
+    from sklearn_hardness._cli import _DEFAULT_PIPELINES, _MODELS, _PIPELINES, _SIM_PRESETS
+    from sklearn_hardness.experiments import MODEL_NAMES
     from sklearn_hardness.datasets._sim_presets import PRESETS
     from sklearn_hardness.experiments._evaluate import DEFAULT_PIPELINES, PIPELINE_NAMES
 
     assert set(_SIM_PRESETS) == set(PRESETS)
     assert tuple(_PIPELINES) == tuple(PIPELINE_NAMES)
     assert tuple(_DEFAULT_PIPELINES) == tuple(DEFAULT_PIPELINES)
+    assert tuple(_MODELS) == tuple(MODEL_NAMES)
 
 
 def test_every_set_key_is_documented_in_help_and_docstring(capsys):

@@ -57,11 +57,17 @@ def _evaluate(learner, X_test, y_test, hardness):
 
 
 def _input_scale(X_train, cfg, model):
-    """The factor that brings the run's training frames to unit standard deviation (1 if unscaled).
+    """The factor that brings the run's training frames to unit standard deviation (None if unscaled).
 
     Fitted on the initial training presses of the run only (fixed for the run),
-    never on the test object's held-out presses.
+    never on the test object's held-out presses. For ``contact_profile_nn``
+    a (mean, 1 / std) pair per feature: its features differ in scale by orders
+    of magnitude (frames, fractions, log intensities), as a ``StandardScaler``
+    would see them.
     """
+    if model == "contact_profile_nn":
+        std = X_train.std(axis=0)
+        return X_train.mean(axis=0).astype(np.float32), (1.0 / np.where(std > 0, std, 1.0)).astype(np.float32)
     if model != "convlstm" or cfg.get("input_scale") is None:
         return None
     std = float(np.std(X_train))
@@ -167,7 +173,11 @@ def _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy, grou
 
 
 def _rows(X, idx, scale):
-    return X[idx] if scale is None else X[idx] * scale
+    if scale is None:
+        return X[idx]
+    if isinstance(scale, tuple):  # per-feature standardisation
+        return (X[idx] - scale[0]) * scale[1]
+    return X[idx] * scale
 
 
 def _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, state, strategy,

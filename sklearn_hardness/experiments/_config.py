@@ -25,7 +25,7 @@ from ..models import chance_scaled_threshold
 __all__ = ["PRESET_CONFIGS", "QUICK_OVERRIDES", "MODEL_NAMES", "get_config", "config_hash"]
 
 #: Classifiers selectable by name (``model=...``).
-MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn")
+MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn")
 
 #: Input of each named model, after contact-frame selection. The paper does not
 #: give the ConvLSTM's input size. 12x16 grey frames are the default: on the front
@@ -39,6 +39,8 @@ MODEL_INPUTS = {
     "convlstm": {"frame_size": (12, 16), "color": "gray", "subtract_first": True},
     "ofnn": {"frame_size": (120, 160), "color": "gray", "subtract_first": False},
     "dinov2nn": {"frame_size": (112, 150), "color": "rgb", "subtract_first": True},
+    # no frame selection: ContactProfileFeatures read the whole press video
+    "contact_profile_nn": {"frame_size": None, "color": None, "subtract_first": None},
 }
 
 def _input_name(model):
@@ -196,6 +198,12 @@ def check_config(cfg):
             f"dropout_placement={cfg['dropout_placement']!r} applies to the ConvLSTM only, but the model is "
             f"{cfg.get('model')!r}; leave it at 'head' or use model='convlstm'."
         )
+    if cfg.get("model") == "contact_profile_nn" and any(
+            cfg.get(k) is not None for k in ("frame_size", "color", "crop_contact")):
+        raise ValueError(
+            "frame_size, color and crop_contact select contact frames, which contact_profile_nn does not "
+            "use (ContactProfileFeatures read the whole video); leave them at None."
+        )
     if cfg["n_ensemble"] == 1:
         raise ValueError("n_ensemble must be 0 (MC dropout) or at least 2 members, got 1.")
     if cfg["max_reservoir"] is not None and cfg["max_reservoir"] < cfg["n_per_query"]:
@@ -259,7 +267,7 @@ _LATER_KEYS = {"n_ensemble": 0, "device": "cpu", "early_stopping": None, "crop_c
 #: The frame size ``frame_size=None`` meant in the hash, per :func:`_input_name` (before
 #: check_config wrote the size out and the ConvLSTM's default became 12x16): hashed as None,
 #: so results files made then stay resumable under the same frames.
-_SIZES_HASHED_AS_NONE = {"convlstm": (18, 24), "ofnn": (120, 160), "dinov2nn": (112, 150)}
+_SIZES_HASHED_AS_NONE = {"convlstm": (18, 24), "ofnn": (120, 160), "dinov2nn": (112, 150), "contact_profile_nn": None}
 
 
 def config_hash(config):

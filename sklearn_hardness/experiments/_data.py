@@ -75,7 +75,10 @@ def load_dataset(dataset, cfg):
 
 
 def _frame_params(cfg, model):
+    """ContactFrameSelector's parameters for the model's input, or None where it reads whole videos."""
     name = _input_name(model)
+    if MODEL_INPUTS[name]["frame_size"] is None and cfg["frame_size"] is None:
+        return None
     size = cfg["frame_size"] or MODEL_INPUTS[name]["frame_size"]
     color = cfg["color"] or MODEL_INPUTS[name]["color"]
     params = {
@@ -94,6 +97,8 @@ def _feature_params(cfg, model):
         return {"kind": "optical_flow", "n_features": 500}
     if model == "dinov2nn":
         return {"kind": "dinov2", "model": cfg["dinov2_model"]}
+    if model == "contact_profile_nn":
+        return {"kind": "contact_profile", "max_side": 80}
     return None
 
 
@@ -149,6 +154,12 @@ def _features(frames, feature_params):
 
 def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=None):
     data = load_dataset(dataset, cfg)
+    if frame_params is None:  # features of the whole videos (contact_profile_nn)
+        from ..features import ContactProfileFeatures
+
+        X = ContactProfileFeatures(max_side=feature_params["max_side"], n_jobs=n_jobs).fit_transform(
+            data["videos"]).astype(np.float32)
+        return X, np.asarray(data["target"])
     frames = _select_frames(data["videos"], frame_params, verbose, n_jobs)
     X = _features(frames, feature_params)
     y = np.asarray(data["target"])
@@ -363,9 +374,10 @@ def make_estimator(model, cfg, seed, n_classes, dropout=None):
     """A fresh classifier for one run: a named model built from ``cfg``, or a seeded clone."""
     dropout = cfg["dropout"] if dropout is None else dropout
     if isinstance(model, str):
-        from ..models import ConvLSTMClassifier, DINOv2NNClassifier, OFNNClassifier
+        from ..models import ContactProfileNNClassifier, ConvLSTMClassifier, DINOv2NNClassifier, OFNNClassifier
 
-        cls = {"convlstm": ConvLSTMClassifier, "ofnn": OFNNClassifier, "dinov2nn": DINOv2NNClassifier}[model]
+        cls = {"convlstm": ConvLSTMClassifier, "ofnn": OFNNClassifier, "dinov2nn": DINOv2NNClassifier,
+               "contact_profile_nn": ContactProfileNNClassifier}[model]
         kwargs = dict(dropout=float(dropout), lr=cfg["lr"], random_state=int(seed),
                       classes=np.arange(n_classes), max_epochs=int(cfg["initial_epochs"]),
                       device=cfg.get("device", "cpu"))
