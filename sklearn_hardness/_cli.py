@@ -23,6 +23,7 @@ import sys
 import textwrap
 
 from . import __version__
+from ._experiment_names import DEFAULT_PIPELINES, MODEL_NAMES, PIPELINE_NAMES
 
 
 class _UsageError(Exception):
@@ -443,7 +444,7 @@ def _add_reproduce(sub):
                    help="manifest CSV of real recordings (see load_press_videos; with an object_id "
                    "column and several objects per class the runs are object-disjoint) or 'everyday' "
                    "(simulated everyday objects); default: the simulator with the preset's objects")
-    p.add_argument("--model", default=None, choices=_MODELS,
+    p.add_argument("--model", default=None, choices=MODEL_NAMES,
                    help="classifier (default: the preset's)")
     p.add_argument("--dinov2-model", default=None,
                    help="DINOv2 weights for dinov2nn: a Hugging Face id in the local cache or a local "
@@ -675,11 +676,9 @@ def _run_reproduce(args):
     return 0
 
 
-#: Names the parser offers without importing the library (tests check them against it).
+#: Names the parser offers without importing the library (tests check them against it); the
+#: experiments' model and pipeline names come from _experiment_names, which the library imports too.
 _SIM_PRESETS = ("everyday", "shore9", "silicone5")  # datasets.make_presses
-_MODELS = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn")  # experiments.MODEL_NAMES
-_PIPELINES = ("peak_change", "contact_profile", "contact_profile_nn", "convlstm", "ofnn", "dinov2nn")  # experiments.evaluate_pipelines
-_DEFAULT_PIPELINES = ("contact_profile", "contact_profile_nn", "convlstm", "ofnn")  # its DEFAULT_PIPELINES
 
 _SIM_FORMATS = {"avi": ".avi", "mp4": ".mp4", "png": "", "npy": ".npy"}
 
@@ -780,8 +779,8 @@ def _add_evaluate(sub):
     )
     p.add_argument("dataset", help="a manifest.csv (or its folder), or a simulator preset "
                    f"({', '.join(_SIM_PRESETS)})")
-    p.add_argument("--pipelines", nargs="*", default=list(_DEFAULT_PIPELINES), choices=_PIPELINES,
-                   metavar="NAME", help=f"among {', '.join(_PIPELINES)} (default: {' '.join(_DEFAULT_PIPELINES)}); "
+    p.add_argument("--pipelines", nargs="*", default=list(DEFAULT_PIPELINES), choices=PIPELINE_NAMES,
+                   metavar="NAME", help=f"among {', '.join(PIPELINE_NAMES)} (default: {' '.join(DEFAULT_PIPELINES)}); "
                    "the peak_change baseline is always added")
     p.add_argument("--cv", type=_int_type(2, what="an integer >= 2"), default=5,
                    help="number of object-disjoint folds (default 5)")
@@ -845,7 +844,7 @@ def _add_benchmark(sub):
     )
     p.add_argument("--preset", default="silicone5", choices=["silicone5", "shore9"],
                    help="the paper's setup whose presses and hyperparameters are used (default silicone5)")
-    p.add_argument("--model", default=None, choices=_MODELS,
+    p.add_argument("--model", default=None, choices=MODEL_NAMES,
                    help="classifier (default: the preset's)")
     p.add_argument("--strategy", default="variance",
                    help="query strategy: variance (default), entropy, random or bald")

@@ -1,11 +1,20 @@
 """Names and help texts of the experiments' configuration, importable without torch or scikit-learn.
 
-The command line builds ``reproduce --help`` from them (in well under a second,
-without importing the library); :mod:`sklearn_hardness.experiments` re-exports
-:data:`STRATEGIES` and :data:`QUICK_OVERRIDES` and writes
+The command line builds its parser and ``reproduce --help`` from them (in well
+under a second, without importing the library); :mod:`sklearn_hardness.experiments`
+re-exports :data:`MODEL_NAMES`, :data:`STRATEGIES` and :data:`QUICK_OVERRIDES`
+and writes
 :func:`~sklearn_hardness.experiments.get_config`'s docstring from :data:`KEY_HELP`.
 Nothing here may import anything beyond the standard library.
 """
+
+#: Classifiers selectable by name in the experiments (``model=...``, ``reproduce --model``).
+MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn")
+
+#: Pipelines ``evaluate`` knows by name (``"peak_change"`` is the one-number baseline).
+PIPELINE_NAMES = ("peak_change", "contact_profile", "contact_profile_nn", "convlstm", "ofnn", "dinov2nn")
+#: What ``evaluate`` runs by default: the inputs that carry over to new objects on real recordings first.
+DEFAULT_PIPELINES = ("contact_profile", "contact_profile_nn", "convlstm", "ofnn")
 
 #: The strategies compared by default (BALD is our addition to the paper's three).
 STRATEGIES = ("variance", "entropy", "random", "bald")

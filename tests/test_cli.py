@@ -153,15 +153,29 @@ def test_building_the_parser_imports_neither_torch_nor_sklearn():
 
 
 def test_names_offered_by_the_parser_are_the_library_s():
-    from sklearn_hardness._cli import _DEFAULT_PIPELINES, _MODELS, _PIPELINES, _SIM_PRESETS
-    from sklearn_hardness.experiments import MODEL_NAMES
+    from sklearn_hardness._cli import _SIM_PRESETS, build_parser
     from sklearn_hardness.datasets._sim_presets import PRESETS
-    from sklearn_hardness.experiments._evaluate import DEFAULT_PIPELINES, PIPELINE_NAMES
+    from sklearn_hardness.experiments import MODEL_NAMES
+    from sklearn_hardness.experiments._data import make_estimator
+    from sklearn_hardness.experiments._evaluate import _named_pipeline, evaluate_pipelines
+
+    def choices(command, dest):
+        sub = next(a for a in build_parser()._actions if a.dest == "command").choices[command]
+        action = next(a for a in sub._actions if a.dest == dest)
+        return tuple(action.choices), action.default
 
     assert set(_SIM_PRESETS) == set(PRESETS)
-    assert tuple(_PIPELINES) == tuple(PIPELINE_NAMES)
-    assert tuple(_DEFAULT_PIPELINES) == tuple(DEFAULT_PIPELINES)
-    assert tuple(_MODELS) == tuple(MODEL_NAMES)
+    pipelines, default = choices("evaluate", "pipelines")
+    assert all(_named_pipeline(name) is not None for name in pipelines)  # every name the parser offers builds
+    with pytest.raises(ValueError, match="unknown pipeline"):
+        evaluate_pipelines("everyday", ["not-a-pipeline"])
+    assert set(default) <= set(pipelines) and "peak_change" not in default  # the baseline is always added
+    for command in ("reproduce", "benchmark"):
+        models, _ = choices(command, "model")
+        assert tuple(models) == tuple(MODEL_NAMES)
+    from sklearn_hardness.experiments import get_config
+
+    assert all(make_estimator(m, get_config(), 0, 3) is not None for m in MODEL_NAMES)
 
 
 def test_every_set_key_is_documented_in_help_and_docstring(capsys):

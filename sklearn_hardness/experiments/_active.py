@@ -19,7 +19,6 @@ from ._runner import run_tasks
 __all__ = ["run_active_sampling", "planned_config_hash", "STRATEGIES"]
 
 
-
 def _seeds(seed, test_class, n, test_object=None):
     """Independent int seeds for one (test object, seed): the same for every strategy (paired runs).
 

@@ -19,13 +19,10 @@ import numpy as np
 from sklearn.utils._param_validation import Interval, StrOptions, validate_parameter_constraints
 
 from .._experiment_names import KEY_HELP as _KEY_HELP
-from .._experiment_names import QUICK_OVERRIDES
+from .._experiment_names import MODEL_NAMES, QUICK_OVERRIDES
 from ..models import chance_scaled_threshold
 
 __all__ = ["PRESET_CONFIGS", "QUICK_OVERRIDES", "MODEL_NAMES", "get_config", "config_hash"]
-
-#: Classifiers selectable by name (``model=...``).
-MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn")
 
 #: Input of each named model, after contact-frame selection. The paper does not
 #: give the ConvLSTM's input size. 12x16 grey frames are the default: on the front

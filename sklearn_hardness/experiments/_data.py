@@ -154,14 +154,13 @@ def _features(frames, feature_params):
 
 def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=None):
     data = load_dataset(dataset, cfg)
-    if frame_params is None:  # features of the whole videos (contact_profile_nn)
+    if frame_params is None:  # features of the whole videos (contact_profile_nn), no frame selection
         from ..features import ContactProfileFeatures
 
         X = ContactProfileFeatures(max_side=feature_params["max_side"], n_jobs=n_jobs).fit_transform(
             data["videos"]).astype(np.float32)
-        return X, np.asarray(data["target"])
-    frames = _select_frames(data["videos"], frame_params, verbose, n_jobs)
-    X = _features(frames, feature_params)
+    else:
+        X = _features(_select_frames(data["videos"], frame_params, verbose, n_jobs), feature_params)
     y = np.asarray(data["target"])
     return X, y
 

@@ -27,6 +27,7 @@ from sklearn.preprocessing import FunctionTransformer, StandardScaler
 from sklearn.utils import Bunch, _safe_indexing
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
+from .._experiment_names import DEFAULT_PIPELINES, PIPELINE_NAMES
 from ..utils._random import int_seed
 from ._runner import ProgressLog
 
@@ -38,10 +39,6 @@ __all__ = [
     "plot_confusion_matrices",
 ]
 
-#: Pipelines known by name (``"peak_change"`` is the one-number baseline).
-PIPELINE_NAMES = ("peak_change", "contact_profile", "contact_profile_nn", "convlstm", "ofnn", "dinov2nn")
-#: What ``pipelines=None`` runs: the inputs that carry over to new objects on real recordings first.
-DEFAULT_PIPELINES = ("contact_profile", "contact_profile_nn", "convlstm", "ofnn")
 
 
 def peak_contact_change(videos, roi=None):
