@@ -153,10 +153,11 @@ def test_building_the_parser_imports_neither_torch_nor_sklearn():
 
 
 def test_names_offered_by_the_parser_are_the_library_s():
-    from sklearn_hardness._cli import _SIM_PRESETS, build_parser
+    from sklearn_hardness._cli import build_parser
+    from sklearn_hardness._cli._common import _SIM_PRESETS
     from sklearn_hardness.datasets._sim_presets import PRESETS
     from sklearn_hardness.experiments import MODEL_NAMES
-    from sklearn_hardness.experiments._data import make_estimator
+    from sklearn_hardness.experiments._models import make_estimator
     from sklearn_hardness.experiments._evaluate import _named_pipeline, evaluate_pipelines
 
     def choices(command, dest):

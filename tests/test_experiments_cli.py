@@ -5,7 +5,8 @@ import os
 import numpy as np
 import pytest
 
-from sklearn_hardness._cli import _reproduce_config_hash, build_parser, main
+from sklearn_hardness._cli import build_parser, main
+from sklearn_hardness._cli._reproduce import _reproduce_config_hash
 from sklearn_hardness.experiments import parse_provenance
 from sklearn_hardness.io import write_video
 

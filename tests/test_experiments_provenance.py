@@ -9,7 +9,9 @@ import shlex
 
 import pytest
 
-from sklearn_hardness._cli import _README_END, _README_START, _reproduce_command, _reproduce_config_hash, build_parser
+from sklearn_hardness._cli import build_parser
+from sklearn_hardness._cli._common import _reproduce_command
+from sklearn_hardness._cli._reproduce import _README_END, _README_START, _reproduce_config_hash
 from sklearn_hardness.experiments import (
     code_fingerprint,
     machine_reference,

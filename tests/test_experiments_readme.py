@@ -7,7 +7,8 @@ import shutil
 
 import pytest
 
-from sklearn_hardness._cli import _README_END, _README_START, _UsageError, _write_readme_table
+from sklearn_hardness._cli._common import _UsageError
+from sklearn_hardness._cli._reproduce import _README_END, _README_START, _write_readme_table
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 

@@ -470,3 +470,40 @@ def get_strategy(strategy):
     'variance_sampling'
     """
     return _STRATEGIES[strategy] if isinstance(strategy, str) else strategy
+
+
+def check_strategies(strategies):
+    """Check a list of strategies (names or callables) and name each one.
+
+    One strategy (a name or a callable) counts as a list of one. Used by the
+    experiments and by the command line before anything runs.
+
+    Parameters
+    ----------
+    strategies : str, callable or sequence of them
+
+    Returns
+    -------
+    strategies : tuple
+        As given.
+    names : list of str
+        The name of each (a callable's ``__name__``).
+
+    Raises
+    ------
+    ValueError
+        An empty list, an unknown name (see :func:`get_strategy`), or the
+        same strategy twice.
+    """
+    if isinstance(strategies, str) or callable(strategies):
+        strategies = (strategies,)
+    strategies = tuple(strategies)
+    if not strategies:
+        raise ValueError("strategies is empty; pass e.g. ('variance', 'entropy', 'random').")
+    names = []
+    for s in strategies:
+        get_strategy(s)  # ValueError for an unknown name
+        names.append(s if isinstance(s, str) else getattr(s, "__name__", repr(s)))
+    if len(set(names)) != len(names):
+        raise ValueError(f"strategies has duplicates: {names}.")
+    return strategies, names
