@@ -39,7 +39,7 @@ Measured (shared 2-core VM, load 5-8, so wall times are inflated; CPU times are 
     object on the simulator (no resampling 14.0%, random 22.7%, variance
     20.7%, entropy 19.3%, BALD 16.7%; no strategy differs from random), as
     in the paper, where OFNN is the weakest model (27%). (Measured before
-    OFNN got raw frames instead of differences; see MODEL_INPUTS.)
+    OFNN got raw frames instead of differences; see experiments._models.PAPER_CHOICES.)
 
     10 pairs, ConvLSTM with the paper's settings, idle 2-core machine,
     ``--n-jobs 2``: 1212 s wall; 6 of 10 pairs converged in every strategy.

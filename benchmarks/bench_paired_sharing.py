@@ -18,7 +18,7 @@ import time
 import torch
 
 from sklearn_hardness.experiments import STRATEGIES, run_active_sampling
-from sklearn_hardness.experiments._active import _active_run
+from sklearn_hardness.experiments._run import _active_run
 from sklearn_hardness.experiments._config import check_config, get_config, resolve_convergence_threshold
 from sklearn_hardness.experiments._data import prepare_inputs
 

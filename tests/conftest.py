@@ -2,7 +2,7 @@ import os
 
 import numpy as np
 import pytest
-import torch
+from tests._threads import torch_threads
 
 
 # SKLEARN_HARDNESS_TEST_THREADS changes the float path (.ci/run runs the fast tests once with 1).
@@ -17,11 +17,10 @@ def pytest_configure(config):
 def _few_threads(request):
     # CI has 2 cores; keep torch from oversubscribing when pytest runs alongside joblib. Tiny nets
     # are fastest on one thread: their modules say pytestmark = pytest.mark.torch_threads(1).
+    # Module-scoped fixtures are set up before this one: they use tests._threads.torch_threads.
     marker = request.node.get_closest_marker("torch_threads")
-    before = torch.get_num_threads()
-    torch.set_num_threads(marker.args[0] if marker else _TORCH_THREADS)
-    yield
-    torch.set_num_threads(before)
+    with torch_threads(marker.args[0] if marker else _TORCH_THREADS):
+        yield
 
 
 @pytest.fixture

@@ -302,7 +302,7 @@ def test_custom_estimator_and_dinov2nn_preset():
 
 def test_device_key_reaches_the_named_models_and_keeps_old_hashes():
     from sklearn_hardness.experiments import config_hash, get_config
-    from sklearn_hardness.experiments._data import make_estimator
+    from sklearn_hardness.experiments._models import make_estimator
 
     cfg = get_config("silicone5")
     without = {k: v for k, v in cfg.items() if k != "device"}
@@ -360,7 +360,7 @@ def test_frame_size_is_written_out_and_old_results_stay_resumable():
     assert custom["frame_size"] == (12, 16)
     assert config_hash(dict(custom, frame_size=(18, 24))) == config_hash(dict(custom, frame_size=None))
     assert config_hash(custom) != config_hash(dict(custom, frame_size=None))
-    with pytest.raises(ValueError, match="frame_size must be None or"):
+    with pytest.raises(ValueError, match="'frame_size' parameter of the experiment configuration must be None or a pair"):
         check_config(get_config("silicone5", frame_size=(12, 0)))
-    with pytest.raises(ValueError, match="frame_size must be None or"):
+    with pytest.raises(ValueError, match="'frame_size' parameter of the experiment configuration must be None or a pair"):
         check_config(get_config("silicone5", frame_size="12x16"))

@@ -10,7 +10,7 @@ import pytest
 
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.experiments import get_config, run_active_sampling
-from sklearn_hardness.experiments._active import _input_scale, _rows
+from sklearn_hardness.experiments._run import _input_scale, _rows
 from sklearn_hardness.experiments._config import check_config, config_hash
 from sklearn_hardness.experiments._data import prepare_inputs
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from sklearn_hardness.experiments import run_active_sampling
-from sklearn_hardness.experiments._active import _active_run
+from sklearn_hardness.experiments._run import _active_run
 from sklearn_hardness.experiments._config import check_config, get_config
 from sklearn_hardness.experiments._data import prepare_inputs
 
@@ -97,7 +97,7 @@ def test_query_is_computed_on_the_test_objects_presses_only(monkeypatch):
 
 
 def test_input_scale_is_fitted_on_training_presses_only(monkeypatch):
-    import sklearn_hardness.experiments._active as active
+    import sklearn_hardness.experiments._run as active
 
     seen = []
     orig = active._input_scale

@@ -4,7 +4,6 @@ import warnings
 
 import numpy as np
 import pytest
-import torch
 from sklearn.exceptions import ConvergenceWarning
 
 from sklearn_hardness.models import OFNNClassifier, check_convergence, is_converged
@@ -17,8 +16,8 @@ def test_rule_on_values():
     assert is_converged(1.5, threshold=2.0)
 
 
+@pytest.mark.torch_threads(1)
 def test_rule_on_nets():
-    torch.set_num_threads(1)
     rng = np.random.default_rng(0)
     X = rng.normal(size=(30, 5)).astype(np.float32)
     y = np.arange(30) % 3

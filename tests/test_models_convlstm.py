@@ -5,6 +5,7 @@ import pytest
 import torch
 
 from sklearn_hardness.models import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
+from tests._threads import torch_threads
 
 
 pytestmark = pytest.mark.torch_threads(1)
@@ -22,9 +23,10 @@ def _brightness_task(n=20, seed=0, shape=(3, 8, 10, 3)):
 
 @pytest.fixture(scope="module")
 def fitted():
-    torch.set_num_threads(1)
     X, y = _brightness_task()
-    return X, y, ConvLSTMClassifier(max_epochs=3, dropout_placement="layers", random_state=0).fit(X, y)
+    with torch_threads(1):
+        net = ConvLSTMClassifier(max_epochs=3, dropout_placement="layers", random_state=0).fit(X, y)
+    return X, y, net
 
 
 def test_learns_trivial_video_task():

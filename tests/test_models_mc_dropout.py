@@ -15,6 +15,7 @@ from sklearn_hardness.models import (
     MCDropout,
     OFNNClassifier,
 )
+from tests._threads import torch_threads
 
 
 def _data(kind, n=20, seed=0):
@@ -42,10 +43,10 @@ pytestmark = pytest.mark.torch_threads(1)
 
 @pytest.fixture(params=list(CASES), scope="module")
 def case(request):
-    torch.set_num_threads(1)
     cls, kind, kw = CASES[request.param]
     X, y = _data(kind)
-    net = cls(random_state=0, **kw).fit(X, y)
+    with torch_threads(1):
+        net = cls(random_state=0, **kw).fit(X, y)
     return cls, kind, kw, X, y, net
 
 

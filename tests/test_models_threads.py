@@ -22,8 +22,8 @@ def _weights(seed):
     return torch.cat([p.detach().flatten() for p in net.module_.parameters()]).numpy()
 
 
+@pytest.mark.torch_threads(1)
 def test_seeded_fits_in_threads_match_sequential_fits():
-    torch.set_num_threads(1)
     seeds = [0, 1, 2, 3] * 6
     expected = {s: _weights(s) for s in set(seeds)}
     with ThreadPoolExecutor(max_workers=4) as pool:

@@ -11,7 +11,8 @@ from ..metrics import hardness_mae
 from ..models import is_converged
 from ..utils._random import derived_seeds
 from ._config import check_config, config_hash, get_config, resolve_convergence_threshold
-from ._data import describe_model, make_estimator, prepare_inputs
+from ._data import prepare_inputs
+from ._models import describe_model, make_estimator
 from ._evaluate import _named_pipeline, evaluate_pipelines
 from ._results import ExperimentResult, ResultsStore
 from ._runner import run_tasks

@@ -21,29 +21,11 @@ from sklearn.utils._param_validation import Interval, StrOptions, validate_param
 from .._experiment_names import KEY_HELP as _KEY_HELP
 from .._experiment_names import MODEL_NAMES, QUICK_OVERRIDES
 from ..models import chance_scaled_threshold
+from ..utils._param_validation import FRAME_SIZE
+from ._models import default_frame_size
+from ._models import input_name as _input_name
 
 __all__ = ["PRESET_CONFIGS", "QUICK_OVERRIDES", "MODEL_NAMES", "get_config", "config_hash"]
-
-#: Input of each named model, after contact-frame selection. The paper does not
-#: give the ConvLSTM's input size. 12x16 grey frames are the default: on the front
-#: of time against error of ``benchmarks/bench_time_error.py`` (half the time of
-#: 18x24 per run, no higher error in its runs; docs: run time against error). Optical flow
-#: needs enough pixels for its 500 corners; DINOv2 resizes to 224 itself.
-#: Optical flow tracks the gel's markers, so it gets the raw frames: on simulated
-#: silicone5 (5 train presses per object, 5 seeds) OFNN reached 33.8% +- 2.9% on raw
-#: frames and 21.5% +- 1.1% (chance) on differences to the first frame.
-MODEL_INPUTS = {
-    "convlstm": {"frame_size": (12, 16), "color": "gray", "subtract_first": True},
-    "ofnn": {"frame_size": (120, 160), "color": "gray", "subtract_first": False},
-    "dinov2nn": {"frame_size": (112, 150), "color": "rgb", "subtract_first": True},
-    # no frame selection: ContactProfileFeatures read the whole press video
-    "contact_profile_nn": {"frame_size": None, "color": None, "subtract_first": None},
-}
-
-def _input_name(model):
-    """The :data:`MODEL_INPUTS` entry a model gets: its own if named, the ConvLSTM's for any estimator."""
-    return model if isinstance(model, str) and model in MODEL_INPUTS else "convlstm"
-
 
 _COMMON = {
     "n_initial": 5,  # s0
@@ -63,7 +45,7 @@ _COMMON = {
     "dropout_placement": "head",
     "lr": 1e-3,
     "batch_size": None,  # None: the model's default (8 ConvLSTM, 32 MLP heads)
-    "frame_size": None,  # None: MODEL_INPUTS[model] (check_config fills it in)
+    "frame_size": None,  # None: the model factory's (check_config fills it in)
     "color": None,
     # ConvLSTM input: frame differences are small (std ~0.03 of full scale) and
     # the ConvLSTM barely trains on them; an active-sampling run divides them by
@@ -182,6 +164,7 @@ _CONFIG_CONSTRAINTS = {
     "device": [str],
     "early_stopping": [*_ints_from(1), None],
     "crop_contact": [Interval(numbers.Real, 0.0, 1.0, closed="neither"), None],
+    "frame_size": [None, FRAME_SIZE],
 }
 
 
@@ -212,14 +195,9 @@ def check_config(cfg):
     if cfg["frame_size"] is None:
         # the model's frame size, written out: the config hash and config.json then say which
         # frames a run saw, also after the default changed (18x24 before 12x16)
-        cfg["frame_size"] = MODEL_INPUTS[_input_name(cfg.get("model"))]["frame_size"]
-    size = cfg["frame_size"]
-    if size is not None:
-        if (isinstance(size, str) or not hasattr(size, "__len__") or len(size) != 2
-                or not all(isinstance(v, numbers.Integral) and v >= 2 for v in size)):
-            # ContactFrameSelector's rule for output_size, checked here before a run starts
-            raise ValueError(f"frame_size must be None or (height, width) with ints >= 2, got {size!r}.")
-        cfg["frame_size"] = (int(size[0]), int(size[1]))
+        cfg["frame_size"] = default_frame_size(cfg.get("model"))
+    if cfg["frame_size"] is not None:  # checked by FRAME_SIZE above
+        cfg["frame_size"] = tuple(int(s) for s in cfg["frame_size"])
     if cfg["convergence_threshold"] == "auto" and cfg["model"] != "convlstm":
         cfg["convergence_threshold"] = None  # the paper's rule is for the ConvLSTM
     return cfg

@@ -16,14 +16,13 @@ import tempfile
 
 import joblib
 import numpy as np
-from skorch.callbacks import EarlyStopping
-from sklearn.base import BaseEstimator, clone
 from sklearn.utils import Bunch
 
-from ..utils._random import set_random_states
-from ._config import MODEL_INPUTS, MODEL_NAMES, _input_name
+from ._config import MODEL_NAMES
+from ._models import feature_params as _feature_params
+from ._models import frame_params as _frame_params
 
-__all__ = ["load_dataset", "prepare_inputs", "make_estimator"]
+__all__ = ["load_dataset", "prepare_inputs"]
 
 _SIM_PRESETS = ("silicone5", "shore9", "everyday")
 _MEMO = {}  # in-process cache of prepared inputs (a few small arrays)
@@ -72,34 +71,6 @@ def load_dataset(dataset, cfg):
         if field not in dataset:
             raise ValueError(f"the dataset Bunch has no {field!r} field.")
     return dataset
-
-
-def _frame_params(cfg, model):
-    """ContactFrameSelector's parameters for the model's input, or None where it reads whole videos."""
-    name = _input_name(model)
-    if MODEL_INPUTS[name]["frame_size"] is None and cfg["frame_size"] is None:
-        return None
-    size = cfg["frame_size"] or MODEL_INPUTS[name]["frame_size"]
-    color = cfg["color"] or MODEL_INPUTS[name]["color"]
-    params = {
-        "n_between": int(cfg["n_between"]),
-        "output_size": tuple(int(s) for s in size),
-        "color": color,
-        "subtract_first": MODEL_INPUTS[name]["subtract_first"],
-    }
-    if cfg.get("crop_contact") is not None:  # only when set: earlier caches stay valid
-        params["crop_contact"] = float(cfg["crop_contact"])
-    return params
-
-
-def _feature_params(cfg, model):
-    if model == "ofnn":
-        return {"kind": "optical_flow", "n_features": 500}
-    if model == "dinov2nn":
-        return {"kind": "dinov2", "model": cfg["dinov2_model"]}
-    if model == "contact_profile_nn":
-        return {"kind": "contact_profile", "max_side": 80}
-    return None
 
 
 def _select_frames(videos, frame_params, verbose, n_jobs=None):
@@ -294,7 +265,7 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True, n
         raise ValueError(f"unknown model {model!r}; choose one of {list(MODEL_NAMES)} or pass an estimator.")
     spec = _dataset_spec(dataset, cfg)
     frame_params = _frame_params(cfg, model)
-    feature_params = _feature_params(cfg, model) if isinstance(model, str) else None
+    feature_params = _feature_params(cfg, model)
     data = None
     if spec is None:
         data = load_dataset(dataset, cfg)
@@ -348,69 +319,3 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True, n
     return Bunch(X=X, y=y, target_names=names, hardness=hardness, hardness_unit=unit,
                  n_classes=n_classes, model=model if isinstance(model, str) else "custom",
                  data_id=data_id, object_id=object_id)
-
-
-class _EarlyStoppingAfterFirst(EarlyStopping):
-    """skorch's EarlyStopping on every training call but the first.
-
-    The first call is the initial training (``initial_epochs``): it runs in full, so
-    the paper's convergence rule (training loss <= 1 after it) keeps its meaning;
-    stopped early, 2 of 5 paper-settings runs failed it
-    (``benchmarks/bench_time_error.py``). The calls per query stop once the
-    training loss has not improved for ``patience`` epochs.
-    """
-
-    def on_train_begin(self, net, **kwargs):
-        super().on_train_begin(net, **kwargs)
-        self.active_ = len(net.history) > 0  # empty at the first call: the initial training
-
-    def on_epoch_end(self, net, **kwargs):
-        if self.active_:
-            super().on_epoch_end(net, **kwargs)
-
-
-def make_estimator(model, cfg, seed, n_classes, dropout=None):
-    """A fresh classifier for one run: a named model built from ``cfg``, or a seeded clone."""
-    dropout = cfg["dropout"] if dropout is None else dropout
-    if isinstance(model, str):
-        from ..models import ContactProfileNNClassifier, ConvLSTMClassifier, DINOv2NNClassifier, OFNNClassifier
-
-        cls = {"convlstm": ConvLSTMClassifier, "ofnn": OFNNClassifier, "dinov2nn": DINOv2NNClassifier,
-               "contact_profile_nn": ContactProfileNNClassifier}[model]
-        kwargs = dict(dropout=float(dropout), lr=cfg["lr"], random_state=int(seed),
-                      classes=np.arange(n_classes), max_epochs=int(cfg["initial_epochs"]),
-                      device=cfg.get("device", "cpu"))
-        if cfg["batch_size"] is not None:
-            kwargs["batch_size"] = int(cfg["batch_size"])
-        if model == "convlstm":
-            kwargs["dropout_placement"] = cfg.get("dropout_placement", "head")
-        if cfg.get("early_stopping") is not None:
-            kwargs["callbacks"] = [("early_stopping", _EarlyStoppingAfterFirst(
-                monitor="train_loss", patience=int(cfg["early_stopping"]), threshold=1e-3))]
-        if cfg.get("n_ensemble", 0):
-            from ..models import EnsembleClassifier
-
-            return EnsembleClassifier(cls(**kwargs), n_estimators=int(cfg["n_ensemble"]), random_state=int(seed))
-        return cls(**kwargs)
-    if not isinstance(model, BaseEstimator):
-        raise TypeError(
-            f"model must be one of {list(MODEL_NAMES)} or a scikit-learn estimator, got {type(model).__name__}."
-        )
-    est = set_random_states(clone(model), int(seed))
-    if dropout is not None and cfg.get("_override_dropout"):
-        keys = [k for k in est.get_params(deep=True) if k == "dropout" or k.endswith("__dropout")]
-        if keys:
-            est.set_params(**{k: float(dropout) for k in keys})
-    return est
-
-
-def describe_model(model):
-    """A stable text description of a model for the config hash."""
-    if isinstance(model, str):
-        return model
-    if not isinstance(model, BaseEstimator):
-        raise TypeError(
-            f"model must be one of {list(MODEL_NAMES)} or a scikit-learn estimator, got {type(model).__name__}."
-        )
-    params = model.get_params(deep=False)
-    return f"{type(model).__module__}.{type(model).__qualname__}({sorted((k, repr(v)) for k, v in params.items())})"

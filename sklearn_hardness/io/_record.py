@@ -11,6 +11,7 @@ import cv2
 import numpy as np
 from sklearn.utils._param_validation import HasMethods, Interval, validate_params
 
+from ..utils._param_validation import FRAME_SIZE
 from ._video import _to_rgb, write_video
 
 __all__ = ["record_video"]
@@ -115,10 +116,7 @@ def record_video(source, *, n_frames=None, duration=None, fps=None, size=None, p
     """
     if (n_frames is None) == (duration is None):
         raise ValueError("Pass exactly one of n_frames and duration (how long to record).")
-    if size is not None and (
-        len(size) != 2 or not all(isinstance(v, numbers.Integral) and not isinstance(v, bool) and v >= 2
-                                  for v in size)
-    ):
+    if size is not None and not FRAME_SIZE.is_satisfied_by(size):
         raise ValueError(f"size must be None or (height, width) with ints >= 2, got {size!r}.")
     owned = not hasattr(source, "read")
     cap = _open_capture(source) if owned else source

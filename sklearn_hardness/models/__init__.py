@@ -13,9 +13,11 @@
 All three have ``predict_proba_samples(X, n_samples, random_state)`` for
 batched MC-dropout samples, and :func:`is_converged` implements the paper's
 convergence rule (:func:`chance_scaled_threshold` carries it to any number of
-classes).
+classes). :class:`EarlyStoppingAfterFirstFit` stops the trainings after the
+first one early (active sampling's ``partial_fit`` per query).
 """
 
+from ._callbacks import EarlyStoppingAfterFirstFit
 from ._convergence import chance_scaled_threshold, check_convergence, is_converged
 from ._convlstm import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
 from ._ensemble import EnsembleClassifier
@@ -55,4 +57,5 @@ __all__ = [
     "is_converged",
     "check_convergence",
     "chance_scaled_threshold",
+    "EarlyStoppingAfterFirstFit",
 ]

@@ -13,6 +13,7 @@ from sklearn.utils import Bunch
 from sklearn.utils._param_validation import Interval, StrOptions
 from sklearn.utils.validation import check_is_fitted
 
+from ..utils._param_validation import FRAME_SIZE
 from ..utils._tags import videos_tags
 from ..utils._validation import check_video, check_video_sequence
 
@@ -197,7 +198,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         "n_between": [Interval(numbers.Integral, 0, None, closed="left")],
         "threshold": [StrOptions({"auto"}), Interval(numbers.Real, 0, None, closed="left")],
         "subtract_first": ["boolean"],
-        "output_size": [None, tuple, list],
+        "output_size": [None, FRAME_SIZE],
         "roi": [None, tuple, list],
         "crop_contact": [None, Interval(numbers.Real, 0, 1, closed="neither")],
         "color": [StrOptions({"rgb", "gray"})],
@@ -208,13 +209,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
     }
 
     def _check_sizes(self):
-        """What the constraint table cannot say: the contents of ``output_size`` and ``roi``."""
-        size = self.output_size
-        if size is not None and (
-            len(size) != 2
-            or not all(isinstance(v, numbers.Integral) and not isinstance(v, bool) and v >= 2 for v in size)
-        ):
-            raise ValueError(f"output_size must be None or (height, width) with ints >= 2, got {size!r}.")
+        """What the constraint table cannot say: the contents of ``roi``."""
         roi = self.roi
         if roi is not None and (
             len(roi) != 4

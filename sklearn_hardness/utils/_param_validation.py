@@ -13,7 +13,7 @@ import numbers
 import numpy as np
 from sklearn.utils._param_validation import Interval, Options, make_constraint
 
-__all__ = ["Pair", "ValueRange"]
+__all__ = ["Pair", "ValueRange", "FRAME_SIZE"]
 
 
 class _CustomConstraint(Options):
@@ -87,3 +87,9 @@ class ValueRange(_CustomConstraint):
 
     def __str__(self):
         return "a pair (low, high) of finite numbers with low < high, e.g. (0, 1) or (-1, 1)"
+
+
+#: The size of frames fed to a model, ``(height, width)`` with ints >= 2: the one rule for
+#: ``ContactFrameSelector(output_size=...)``, the factories' and the experiments' ``frame_size``
+#: and ``record_video(size=...)``.
+FRAME_SIZE = Pair(Interval(numbers.Integral, 2, None, closed="left"), "(height, width)")

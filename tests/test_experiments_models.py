@@ -1,0 +1,72 @@
+"""The experiments' named models are the public factories' pipelines, taken apart."""
+
+import numpy as np
+import pytest
+
+from sklearn_hardness import models
+from sklearn_hardness.experiments import MODEL_NAMES, get_config
+from sklearn_hardness.experiments._config import check_config
+from sklearn_hardness.experiments._data import _feature_params, _frame_params
+from sklearn_hardness.experiments._models import FACTORIES, make_estimator, model_pipeline
+
+FACTORY_OF = {"convlstm": models.make_convlstm_pipeline, "ofnn": models.make_ofnn_pipeline,
+              "dinov2nn": models.make_dinov2nn_pipeline, "contact_profile_nn": models.make_contact_profile_pipeline}
+
+
+def test_every_named_model_has_its_factory():
+    assert set(FACTORIES) == set(MODEL_NAMES)
+    assert FACTORIES == FACTORY_OF
+
+
+@pytest.mark.parametrize("name", MODEL_NAMES)
+def test_the_run_s_net_is_the_factory_s_classifier(name):
+    cfg = check_config(get_config("silicone5", model=name))
+    net = make_estimator(name, cfg, seed=3, n_classes=5)
+    clf = FACTORY_OF[name]().named_steps["clf"]
+    assert type(net) is type(clf)
+    # what a run sets (the paper's settings, its seed and classes) on top of the factory's net
+    run_params = {"dropout", "lr", "random_state", "classes", "max_epochs", "device", "batch_size",
+                  "dropout_placement", "callbacks", "class_weight"}
+    theirs, ours = clf.get_params(deep=False), net.get_params(deep=False)
+    assert {k: v for k, v in ours.items() if k not in run_params} == \
+        {k: v for k, v in theirs.items() if k not in run_params}
+    assert net.random_state == 3 and net.class_weight is None  # the paper's unweighted loss
+    np.testing.assert_array_equal(net.classes, np.arange(5))
+
+
+def test_frame_and_feature_steps_come_from_the_factories():
+    # the values of the inputs cached before the factories built them: cached frames stay valid
+    expected = {"convlstm": ((12, 16), "gray", True), "ofnn": ((120, 160), "gray", False),
+                "dinov2nn": ((112, 150), "rgb", True)}
+    for name, (size, color, subtract_first) in expected.items():
+        cfg = check_config(get_config("silicone5", model=name))
+        assert _frame_params(cfg, name) == {"n_between": 2, "output_size": size, "color": color,
+                                            "subtract_first": subtract_first}
+        selector = model_pipeline(name, cfg).named_steps["frames"]
+        assert selector.output_size == size and selector.color == color
+    cfg = check_config(get_config("silicone5", model="contact_profile_nn"))
+    assert _frame_params(cfg, "contact_profile_nn") is None
+    assert _feature_params(cfg, "contact_profile_nn") == {"kind": "contact_profile", "max_side": 80}
+    assert _feature_params(check_config(get_config("shore9", model="ofnn")), "ofnn") == \
+        {"kind": "optical_flow", "n_features": 500}
+    # the experiments reproduce the paper: OFNN on flattened tracks, the ConvLSTM on frames alone
+    assert model_pipeline("ofnn", cfg).named_steps["features"].output == "tracks"
+    assert "intensity" not in model_pipeline("convlstm", cfg).named_steps
+
+
+def test_config_input_settings_reach_the_frames_step():
+    cfg = check_config(get_config("silicone5", frame_size=(18, 24), color="rgb", crop_contact=0.5))
+    assert _frame_params(cfg, "convlstm") == {"n_between": 2, "output_size": (18, 24), "color": "rgb",
+                                              "subtract_first": True, "crop_contact": 0.5}
+    # any estimator gets the ConvLSTM's frames
+    assert _frame_params(cfg, object()) == _frame_params(cfg, "convlstm")
+
+
+def test_frame_size_is_checked_by_one_rule():
+    from sklearn_hardness.preprocessing import ContactFrameSelector
+
+    for bad in [(1, 16), (12,), "12x16", (12.0, 16), (True, 16)]:
+        with pytest.raises(ValueError, match="'frame_size' parameter .* pair \\(height, width\\)"):
+            check_config(get_config("silicone5", frame_size=bad))
+        with pytest.raises(ValueError, match="'output_size' parameter .* pair \\(height, width\\)"):
+            ContactFrameSelector(output_size=bad).fit([np.zeros((4, 8, 8, 3), np.uint8)])
