@@ -529,3 +529,22 @@ def test_everyday_light_spread_turns_hue_change_into_brightness_change():
         make_presses("everyday", light_spread=180.0)
     with pytest.raises(TypeError, match="Unknown simulator parameter"):
         make_presses("silicone5", light_spread=60.0)
+
+
+def test_everyday_kinds_by_rank_false_mixes_shapes_over_ranks():
+    kw = dict(n_per_class=1, image_size=(24, 32), codec=None, random_state=0)
+    by_rank = make_presses("everyday", **kw)
+    assert by_rank.objects == make_presses("everyday", kinds_by_rank=True, **kw).objects  # the default
+    # the preset ties shape to rank: its soft objects are broad contacts, its hard ones never are
+    shapes = {c: {o["shape"] for o in by_rank.objects if o["target"] == c} for c in range(3)}
+    hard, soft = list(by_rank.target_names).index("hard"), list(by_rank.target_names).index("soft")
+    assert "broad" not in shapes[hard] and shapes[soft] <= {"broad", "dome"}
+    mixed = make_presses("everyday", kinds_by_rank=False, **kw)
+    kinds = {c: {o["kind"] for o in mixed.objects if o["target"] == c} for c in range(3)}
+    shapes = {c: {o["shape"] for o in mixed.objects if o["target"] == c} for c in range(3)}
+    assert "broad" in shapes[hard] and len(shapes[soft]) >= 3
+    assert kinds[hard] & kinds[soft]  # the same kinds of object in both ranks
+    # the same objects per rank
+    np.testing.assert_array_equal(mixed.target, by_rank.target)
+    with pytest.raises(TypeError, match="kinds_by_rank"):
+        make_presses("everyday", kinds_by_rank="no", **kw)

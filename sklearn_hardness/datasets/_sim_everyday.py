@@ -118,6 +118,10 @@ def sample_objects(rng, n_objects, class_ratio, params):
         rank = ("soft", "moderate", "hard").index(name)
         lo, hi = params[f"{name}_compliance_range"]
         kinds = OBJECT_KINDS[name]
+        if not params.get("kinds_by_rank", True):
+            # every kind in every rank, in an order of its own per rank (True, the default, draws as before)
+            pool = [kind for r in ("hard", "moderate", "soft") for kind in OBJECT_KINDS[r]]
+            kinds = [pool[i] for i in rng.permutation(len(pool))]
         for j in range(ranks[name]):
             kind, shape, r_range, p_range, texture = kinds[j % len(kinds)]
             tex_lo, tex_hi = _TEXTURE_SCALE[texture]

@@ -164,6 +164,8 @@ EVERYDAY_SPECS = {
     "moderate_compliance_range": ("range", 1e-3, 100.0, "object compliance of moderate objects ~ logU[lo, hi], mm/N"),
     "hard_compliance_range": ("range", 1e-4, 100.0, "object compliance of hard objects ~ logU[lo, hi], mm/N"),
     "texture_amplitude": ("array", 0.0, 2.0, "relative texture depth of soft, moderate and hard objects"),
+    "kinds_by_rank": ("bool", None, None, "True: each rank has its own kinds of object (foams soft, pen tips hard, ...); "
+                      "False: every rank draws from all kinds, so shape and texture say nothing about hardness"),
     "hand_fraction": ("float", 0.0, 1.0, "fraction of presses made by hand (uneven speed), the rest by a robot"),
     "hand_speed_range": ("range", 0.1, 1000.0, "approach speed of hand presses ~ U[lo, hi], mm/s"),
     "video_length": ("int", 8, 10000, "frames of a full recording"),
@@ -303,6 +305,7 @@ PRESETS["everyday"] = dict(
     ambient_rise_frames=(5.0, 9.0),
     light_spread=60.0,
     light_elevation=80.0,
+    kinds_by_rank=True,
 )
 
 _NON_PHYSICAL = ("description", "hardness_unit", "n_per_class")
