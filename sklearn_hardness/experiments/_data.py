@@ -13,10 +13,15 @@ from __future__ import annotations
 import hashlib
 import os
 import tempfile
+import warnings
 
 import joblib
 import numpy as np
 from sklearn.utils import Bunch
+
+from ..datasets import load_press_videos, make_presses
+from ..features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
+from ..preprocessing import ContactFrameSelector
 
 from ._config import MODEL_NAMES
 from ._models import feature_params as _feature_params
@@ -55,11 +60,9 @@ def load_dataset(dataset, cfg):
     """
     spec = _dataset_spec(dataset, cfg)
     if spec is not None and spec[0] == "make_presses":
-        from ..datasets import make_presses
 
         return make_presses(spec[1], image_size=spec[2], random_state=spec[3])
     if spec is not None:
-        from ..datasets import load_press_videos
 
         return load_press_videos(spec[1])
     if not (hasattr(dataset, "videos") or hasattr(dataset, "get")) :
@@ -76,7 +79,6 @@ def load_dataset(dataset, cfg):
 def _select_frames(videos, frame_params, verbose, n_jobs=None):
     from tqdm.auto import tqdm
 
-    from ..preprocessing import ContactFrameSelector
 
     selector = ContactFrameSelector(on_no_contact="fallback", n_jobs=n_jobs, **frame_params)
     n = len(videos)
@@ -84,7 +86,6 @@ def _select_frames(videos, frame_params, verbose, n_jobs=None):
         raise ValueError("the dataset has no videos.")
     chunk = 32
     out = []
-    import warnings
 
     with warnings.catch_warnings():
         # no-contact fallbacks are reported once, below, not per chunk
@@ -111,14 +112,11 @@ def _features(frames, feature_params):
     if feature_params is None:
         return frames
     if feature_params["kind"] == "optical_flow":
-        from ..features import OpticalFlowFeatures
 
-        import warnings
 
         with warnings.catch_warnings():
             warnings.filterwarnings("ignore", message=".*padded.*")
             return OpticalFlowFeatures(n_features=feature_params["n_features"]).fit_transform(frames)
-    from ..features import DINOv2Features
 
     return DINOv2Features(model=feature_params["model"]).fit_transform(frames)
 
@@ -126,7 +124,6 @@ def _features(frames, feature_params):
 def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=None):
     data = load_dataset(dataset, cfg)
     if frame_params is None:  # features of the whole videos (contact_profile_nn), no frame selection
-        from ..features import ContactProfileFeatures
 
         X = ContactProfileFeatures(max_side=feature_params["max_side"], n_jobs=n_jobs).fit_transform(
             data["videos"]).astype(np.float32)
@@ -176,7 +173,6 @@ def _cache_spec(spec):
     so a video re-recorded in place is prepared again."""
     if spec is None or spec[0] != "manifest":
         return spec
-    from ..datasets import load_press_videos
 
     stamps = []
     for path in load_press_videos(spec[1]).paths:

@@ -28,6 +28,11 @@ from sklearn.utils import Bunch, _safe_indexing
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
 from .._experiment_names import DEFAULT_PIPELINES, PIPELINE_NAMES
+from .. import models
+from ..datasets import load_press_videos, make_presses
+from ..datasets._sim_presets import PRESETS
+from ..metrics import hardness_mae
+from ..preprocessing import contact_curve
 from ..utils._random import int_seed
 from ._runner import ProgressLog
 
@@ -70,7 +75,6 @@ def peak_contact_change(videos, roi=None):
     >>> peak_contact_change([video]).round(3).tolist()
     [[0.095]]
     """
-    from ..preprocessing import contact_curve
 
     roi = _check_roi(roi)
     return np.array([[np.log(0.1 + float(np.max(contact_curve(v, roi=roi))))] for v in videos])
@@ -128,7 +132,6 @@ def make_peak_change_baseline(class_weight="balanced", roi=None):
 
 def _named_pipeline(name, seed=None):
     """A pipeline known by name; ``seed`` seeds the nets' initial weights, shuffling and dropout."""
-    from .. import models
 
     if name == "peak_change":
         return make_peak_change_baseline()
@@ -145,8 +148,6 @@ def _named_pipeline(name, seed=None):
 def _load_dataset(dataset, random_state):
     if isinstance(dataset, Bunch) or hasattr(dataset, "videos"):
         return dataset
-    from ..datasets import load_press_videos, make_presses
-    from ..datasets._sim_presets import PRESETS
 
     if isinstance(dataset, str) and dataset in PRESETS:
         return make_presses(dataset, random_state=random_state)
@@ -172,8 +173,6 @@ def _ci95(values):
 
 
 def _fit_fold(name, estimator, X, y, train, test, hardness, error_score):
-    from ..metrics import hardness_mae
-
     t0 = time.perf_counter()
     try:
         with warnings.catch_warnings():

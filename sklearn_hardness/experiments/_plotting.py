@@ -6,6 +6,8 @@ import os
 
 import numpy as np
 
+from ._tables import baseline_table
+
 __all__ = [
     "plot_active_sampling",
     "plot_uncertainty",
@@ -127,7 +129,6 @@ def plot_dropout_sweep(result, metric="accuracy", ax=None, smooth=5):
 
 def plot_model_baselines(result, ax=None):
     """Bar chart of train and test accuracy per model with std error bars (Fig. 3)."""
-    from ._tables import baseline_table
 
     ax = _axes(ax)
     rows = baseline_table(result)

@@ -13,6 +13,9 @@ import zlib
 
 import numpy as np
 
+from ..active import ActiveLearner, PressOracle, class_uncertainty
+from ..metrics import hardness_mae
+from ..models import is_converged
 from ._models import make_estimator
 
 
@@ -30,15 +33,11 @@ def _seeds(seed, test_class, n, test_object=None):
 
 
 def _uncertainty(learner, X_test, seed):
-    from ..active import class_uncertainty
-
     proba = learner.predict_proba_samples(X_test, random_state=seed)
     return {k: class_uncertainty(proba, k) for k in ("entropy", "variance", "bald")}
 
 
 def _evaluate(learner, X_test, y_test, hardness):
-    from ..metrics import hardness_mae
-
     pred = learner.predict(X_test)
     acc = float(np.mean(pred == y_test))
     mae = None if hardness is None else hardness_mae(y_test, pred, hardness)
@@ -129,7 +128,6 @@ def _split_objects(y, groups, cfg, n_classes, test_object, split_seed):
 
 def _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy, groups=None, test_object=None):
     """What the paired runs of one (test object, seed) share: split, oracle, initial training."""
-    from ..active import ActiveLearner, PressOracle
 
     split_seed, oracle_seed, learner_seed, model_seed, mc_seed = _seeds(seed, test_class, 5, test_object)
     if test_object is None:
@@ -172,7 +170,6 @@ def _rows(X, idx, scale):
 def _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, state, strategy,
                   test_object=None):
     """The queries of one strategy from a trained initial state. Returns the record."""
-    from ..models import is_converged
 
     learner, oracle, scale = state["learner"], state["oracle"], state["scale"]
     learner.query_strategy = strategy

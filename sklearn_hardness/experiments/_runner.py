@@ -8,14 +8,13 @@ import sys
 import time
 
 import joblib
+import torch
 from joblib import Parallel, delayed
 
 __all__ = ["run_tasks", "ProgressLog"]
 
 
 def _call(func, n_threads, common, task):
-    import torch
-
     old = torch.get_num_threads()
     if n_threads is not None:
         torch.set_num_threads(n_threads)

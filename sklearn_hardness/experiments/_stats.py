@@ -10,6 +10,7 @@ Wilcoxon signed-rank test (:mod:`scipy.stats`).
 from __future__ import annotations
 
 import numpy as np
+from scipy import stats
 
 from ._tables import render_columns
 
@@ -122,8 +123,6 @@ def _value(record, field, reduce):
 
 
 def _t_interval(d, level=0.95):
-    from scipy import stats
-
     n = d.size
     mean = float(d.mean()) if n else float("nan")
     if n < 2:
@@ -133,8 +132,6 @@ def _t_interval(d, level=0.95):
 
 
 def _p_values(d):
-    from scipy import stats
-
     if d.size < 2 or np.all(d == 0):
         return (1.0, 1.0) if d.size >= 2 else (float("nan"), float("nan"))
     p_t = float(stats.ttest_1samp(d, 0.0).pvalue) if np.std(d) > 0 else 0.0
