@@ -100,8 +100,10 @@ def table(groups, rows, title, reference=None):
 
 
 def parse_param(text):
-    """``NAME=VALUE`` or ``NAME=LO,HI`` -> (name, float or tuple)."""
+    """``NAME=VALUE`` or ``NAME=LO,HI`` -> (name, float or tuple); ``true`` / ``false`` -> bool."""
     name, value = text.split("=", 1)
+    if value.lower() in ("true", "false"):
+        return name, value.lower() == "true"
     values = [float(v) for v in value.split(",")]
     return name, (values[0] if len(values) == 1 else tuple(values))
 
