@@ -19,7 +19,7 @@ from sklearn_hardness.datasets._sim_presets import (
     modulus_to_compliance,
     shore00_to_modulus,
 )
-from sklearn_hardness.datasets._simulator import SimulatedPressVideos
+from sklearn_hardness.datasets._sim_videos import SimulatedPressVideos
 from sklearn_hardness.preprocessing import ContactFrameSelector
 
 SMALL = (48, 64)

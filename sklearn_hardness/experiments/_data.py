@@ -18,6 +18,7 @@ import warnings
 import joblib
 import numpy as np
 from sklearn.utils import Bunch
+from tqdm.auto import tqdm
 
 from ..datasets import load_press_videos, make_presses
 from ..features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
@@ -77,8 +78,6 @@ def load_dataset(dataset, cfg):
 
 
 def _select_frames(videos, frame_params, verbose, n_jobs=None):
-    from tqdm.auto import tqdm
-
 
     selector = ContactFrameSelector(on_no_contact="fallback", n_jobs=n_jobs, **frame_params)
     n = len(videos)
