@@ -171,3 +171,28 @@ def test_peak_change_roi_measures_only_the_region():
     for bad in [(0.5, 0.2, 0, 1), (0, 1, 0), (0, 1.5, 0, 1), "top"]:
         with pytest.raises(ValueError, match="roi must be None or"):
             make_peak_change_baseline(roi=bad)
+
+
+def test_contact_profile_pipelines_share_their_features_per_fold(tiny, monkeypatch):
+    from sklearn_hardness.features import ContactProfileFeatures
+    from sklearn_hardness.models import make_contact_profile_pipeline
+
+    calls = []
+    original = ContactProfileFeatures.fit_transform
+
+    def counting(self, X, y=None, **params):
+        calls.append(len(X))
+        return original(self, X, y, **params)
+
+    monkeypatch.setattr(ContactProfileFeatures, "fit_transform", counting)
+    names = ["contact_profile", "contact_profile_nn"]
+    shared = evaluate_pipelines(tiny, names, cv=3, baseline=False, verbose=0)
+    assert len(calls) == 3  # one feature pass per fold, not one per pipeline and fold
+    # the same figures as two pipelines that each compute their own (a user's dict is left as given)
+    calls.clear()
+    own = evaluate_pipelines(tiny, {"contact_profile": make_contact_profile_pipeline(head="logistic"),
+                                    "contact_profile_nn": make_contact_profile_pipeline(random_state=0)},
+                             cv=3, baseline=False, verbose=0)
+    assert len(calls) == 6
+    for name in names:
+        np.testing.assert_array_equal(shared.predictions[name], own.predictions[name])

@@ -11,10 +11,12 @@ pipeline beside the one-number baseline of :func:`make_peak_change_baseline`.
 from __future__ import annotations
 
 import numbers
+import tempfile
 import time
 import warnings
 from pathlib import Path
 
+import joblib
 import numpy as np
 from joblib import Parallel, delayed
 from scipy import stats
@@ -22,7 +24,7 @@ from sklearn.base import clone
 from sklearn.linear_model import LogisticRegression
 from sklearn.metrics import balanced_accuracy_score, confusion_matrix
 from sklearn.model_selection import StratifiedGroupKFold
-from sklearn.pipeline import make_pipeline
+from sklearn.pipeline import Pipeline, make_pipeline
 from sklearn.preprocessing import FunctionTransformer, StandardScaler
 from sklearn.utils import Bunch, _safe_indexing
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
@@ -145,6 +147,29 @@ def _named_pipeline(name, seed=None):
     return getattr(models, f"make_{name}_pipeline")(random_state=seed)
 
 
+def _share_first_steps(named, folder):
+    """Let named pipelines that start with the same transformer fit it once per fold.
+
+    Pipelines whose first step has the same class and parameters (the two
+    contact-profile pipelines: the same ``ContactProfileFeatures``) get a
+    :class:`joblib.Memory` in ``folder``, so the second one to fit a fold
+    loads the first one's fitted steps and features instead of computing them
+    again (scikit-learn's ``Pipeline(memory=...)``; same values, since the
+    steps are deterministic). Only pipelines built here by name: a user's
+    estimators are left as given.
+    """
+    groups = {}
+    for name, est in named.items():
+        if isinstance(est, Pipeline) and len(est.steps) > 1:
+            first = est.steps[0][1]
+            key = joblib.hash((type(first).__qualname__, first.get_params(deep=False)))
+            groups.setdefault(key, []).append(name)
+    for names in groups.values():
+        if len(names) > 1:
+            for name in names:
+                named[name].set_params(memory=joblib.Memory(folder, verbose=0))
+
+
 def _load_dataset(dataset, random_state):
     if isinstance(dataset, Bunch) or hasattr(dataset, "videos"):
         return dataset
@@ -237,7 +262,9 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
         None: ``["contact_profile", "contact_profile_nn", "convlstm", "ofnn"]``;
         on real recordings of unseen objects the contact-profile features were
         the input that beat the one-number baseline (issue 20), so they run
-        by default beside the paper's nets.
+        by default beside the paper's nets. Named pipelines that start with
+        the same transformer (the two contact-profile ones) compute it once
+        per fold and share it (a temporary ``Pipeline(memory=...)``).
     cv : int, default=5
         Number of folds. Every class needs at least ``cv`` objects.
     baseline : bool, default=True
@@ -306,6 +333,7 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
     groups = np.asarray(groups)
     if pipelines is None:
         pipelines = list(DEFAULT_PIPELINES)
+    memory = None
     if isinstance(pipelines, dict):
         named = {str(k): v for k, v in pipelines.items()}
     else:
@@ -315,6 +343,8 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
                              "or pass a dict {name: estimator}.")
         seed = int_seed(random_state)
         named = {p: _named_pipeline(p, seed) for p in pipelines}
+        memory = tempfile.TemporaryDirectory(prefix="sklearn-hardness-evaluate-")
+        _share_first_steps(named, memory.name)
     if baseline and "peak_change" not in named:
         named = {"peak_change": make_peak_change_baseline(), **named}
     if not named:
@@ -359,6 +389,8 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
         table.append(dict(pipeline=name, balanced_accuracy=ba, balanced_accuracy_ci=ba_ci, mae=mae,
                           mae_ci=mae_ci, fit_predict_seconds=float(sum(o["time"] for o in rows)),
                           n_folds=len(rows), error="; ".join(errors) or None))
+    if memory is not None:
+        memory.cleanup()
     return Bunch(table=table, fold_scores=fold_scores, predictions=predictions, confusion=confusion,
                  target=y, target_names=names, groups=groups, folds=[test for _, test in folds],
                  chance=1.0 / n_classes, hardness_unit=getattr(data, "hardness_unit", None))
