@@ -17,7 +17,7 @@ from ._config import check_config, config_hash, get_config, resolve_convergence_
 from ._data import _dataset_spec, load_dataset, prepare_inputs
 from ._models import describe_model
 from ._results import ExperimentResult, ResultsStore
-from ._run import _active_pair, _active_run, _seeds, _split_objects
+from ._run import _active_pair, _seeds, _split_objects
 from ._runner import run_tasks
 
 __all__ = ["run_active_sampling", "planned_config_hash", "STRATEGIES"]

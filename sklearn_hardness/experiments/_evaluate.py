@@ -147,16 +147,17 @@ def _named_pipeline(name, seed=None):
     return getattr(models, f"make_{name}_pipeline")(random_state=seed)
 
 
-def _share_first_steps(named, folder):
+def _share_first_steps(named):
     """Let named pipelines that start with the same transformer fit it once per fold.
 
     Pipelines whose first step has the same class and parameters (the two
     contact-profile pipelines: the same ``ContactProfileFeatures``) get a
-    :class:`joblib.Memory` in ``folder``, so the second one to fit a fold
-    loads the first one's fitted steps and features instead of computing them
-    again (scikit-learn's ``Pipeline(memory=...)``; same values, since the
+    :class:`joblib.Memory` in a temporary folder, so the second one to fit a
+    fold loads the first one's fitted steps and features instead of computing
+    them again (scikit-learn's ``Pipeline(memory=...)``; same values, since the
     steps are deterministic). Only pipelines built here by name: a user's
-    estimators are left as given.
+    estimators are left as given. Returns the folder's
+    :class:`tempfile.TemporaryDirectory`, or None when no two pipelines share.
     """
     groups = {}
     for name, est in named.items():
@@ -164,10 +165,13 @@ def _share_first_steps(named, folder):
             first = est.steps[0][1]
             key = joblib.hash((type(first).__qualname__, first.get_params(deep=False)))
             groups.setdefault(key, []).append(name)
-    for names in groups.values():
-        if len(names) > 1:
-            for name in names:
-                named[name].set_params(memory=joblib.Memory(folder, verbose=0))
+    shared = [name for names in groups.values() if len(names) > 1 for name in names]
+    if not shared:
+        return None
+    folder = tempfile.TemporaryDirectory(prefix="sklearn-hardness-evaluate-")
+    for name in shared:
+        named[name].set_params(memory=joblib.Memory(folder.name, verbose=0))
+    return folder
 
 
 def _load_dataset(dataset, random_state):
@@ -343,8 +347,7 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
                              "or pass a dict {name: estimator}.")
         seed = int_seed(random_state)
         named = {p: _named_pipeline(p, seed) for p in pipelines}
-        memory = tempfile.TemporaryDirectory(prefix="sklearn-hardness-evaluate-")
-        _share_first_steps(named, memory.name)
+        memory = _share_first_steps(named)
     if baseline and "peak_change" not in named:
         named = {"peak_change": make_peak_change_baseline(), **named}
     if not named:
