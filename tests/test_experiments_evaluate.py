@@ -118,6 +118,10 @@ def test_cli_evaluate_on_a_manifest(tmp_path, capsys, monkeypatch):
     assert record["command"] == f"sklearn-hardness evaluate {root / 'manifest.csv'} --pipelines --cv 3"
     assert record["code_fingerprint"] == code_fingerprint() and saved["provenance"] == record
     assert "object-disjoint 3-fold CV" in (out / "evaluation.txt").read_text()
+    # --quiet silences the start line and the progress on stderr; the table still goes to stdout
+    assert main(["evaluate", str(root / "manifest.csv"), "--pipelines", "--cv", "3", "--quiet"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == "" and "peak_change" in captured.out
     with pytest.raises(SystemExit, match="2"):
         main(["evaluate", str(tmp_path / "missing.csv"), "--pipelines"])
     assert "neither a simulator preset" in capsys.readouterr().err

@@ -39,7 +39,7 @@ def _add_evaluate(sub):
                    help="folder for evaluation.json and confusion_matrices.png (default ./hardness_evaluation)")
     p.add_argument("--seed", type=_nonnegative_int, default=0, help="seed of the folds and of a preset (default 0)")
     p.add_argument("--n-jobs", type=_n_jobs, default=None, help=_n_jobs_help(1) + " (folds in parallel)")
-    _add_quiet(p, "start line and summary of the files written")
+    _add_quiet(p, "start line, progress and summary of the files written")
     return p
 
 
@@ -66,7 +66,7 @@ def _run_evaluate(args):
               f"({args.cv} object-disjoint folds) ...", file=sys.stderr, flush=True)
     with _user_errors():
         result = evaluate_pipelines(args.dataset, args.pipelines, cv=args.cv, error_score=np.nan,
-                                    n_jobs=args.n_jobs, random_state=args.seed)
+                                    n_jobs=args.n_jobs, random_state=args.seed, verbose=0 if args.quiet else 1)
     table = format_evaluation(result)
     print(table)
     out = Path(args.out)
