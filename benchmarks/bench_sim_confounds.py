@@ -14,7 +14,9 @@ the preset:
 - ``kind_disjoint``: the same presses, folds grouped by kind of object (a test
   kind is never seen in training, as a new real object's look);
 - ``kinds_shared``: ``kinds_by_rank=False``: every rank draws from all kinds;
-- ``kinds_shared_even_texture``: that, and one texture depth for every rank.
+- ``kinds_shared_even_texture``: that, and one texture depth for every rank;
+- ``kinds_shared_conforming``: kinds shared, and a compliant object's imprint
+  smoothed with its share of the deformation (``conformity=0.1``).
 
     python benchmarks/bench_sim_confounds.py [--variants ...] [--seed 0] [--n-jobs 2]
         [--out docs/_output/sim_confounds.txt]
@@ -40,6 +42,7 @@ VARIANTS = {
     "kind_disjoint": ({}, "kind"),
     "kinds_shared": ({"kinds_by_rank": False}, "object"),
     "kinds_shared_even_texture": ({"kinds_by_rank": False, "texture_amplitude": [0.2, 0.2, 0.2]}, "object"),
+    "kinds_shared_conforming": ({"kinds_by_rank": False, "conformity": 0.1}, "object"),
 }
 
 

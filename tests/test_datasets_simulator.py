@@ -548,3 +548,40 @@ def test_everyday_kinds_by_rank_false_mixes_shapes_over_ranks():
     np.testing.assert_array_equal(mixed.target, by_rank.target)
     with pytest.raises(TypeError, match="kinds_by_rank"):
         make_presses("everyday", kinds_by_rank="no", **kw)
+
+
+def test_everyday_shared_kinds_keep_their_texture_depth():
+    # with kinds shared, texture depth follows the kind (a foam's cells are deep in any rank), not the rank
+    kw = dict(n_objects=60, image_size=(24, 32), codec=None, random_state=0)
+    mixed = make_presses("everyday", kinds_by_rank=False, **kw)
+    depth = dict(zip(("soft", "moderate", "hard"), mixed.params["texture_amplitude"]))
+    home = {kind[0]: rank for rank, kinds in OBJECT_KINDS.items() for kind in kinds}
+    names = list(mixed.target_names)
+    for obj in mixed.objects:
+        ratio = obj["texture_amplitude"] / depth[home[obj["kind"]]]
+        assert 0.6 <= ratio <= 1.4, (obj["kind"], names[obj["target"]], ratio)
+    # so texture depth says nothing about rank: deep textures (foams, fabrics) in the hard rank too
+    hard = names.index("hard")
+    assert any(o["texture_amplitude"] > 0.25 for o in mixed.objects if o["target"] == hard)
+
+
+def test_everyday_conformity_flattens_soft_imprints_only():
+    # a soft object spreads its load: with conformity its imprint changes less of the image; a rigid
+    # object's (object share of the deformation near 0) stays the same; the mechanics are untouched
+    kw = dict(n_objects=9, n_per_class=2, image_size=(48, 64), codec=None, kinds_by_rank=False,
+              truncated_fraction=0.0, random_state=0)
+    rigid = make_presses("everyday", **kw)
+    soft = make_presses("everyday", conformity=0.5, **kw)
+    for f0, f1 in zip(rigid.force, soft.force):
+        np.testing.assert_array_equal(f0, f1)
+    names = list(rigid.target_names)
+    peak = {}
+    for name, data in (("rigid", rigid), ("conforming", soft)):
+        peak[name] = np.array([contact_curve(data.videos[i]).max() for i in range(len(data.target))])
+    hard = rigid.target == names.index("hard")
+    not_hard = ~hard
+    np.testing.assert_allclose(peak["conforming"][hard], peak["rigid"][hard], rtol=0.15)
+    ratio = peak["conforming"][not_hard] / peak["rigid"][not_hard]
+    assert np.all(ratio < 1.0) and ratio.min() < 0.6, ratio  # fabrics flatten most, pen tips least
+    with pytest.raises(ValueError, match="conformity"):
+        make_presses("everyday", conformity=-1.0)

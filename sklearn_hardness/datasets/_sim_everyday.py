@@ -117,13 +117,15 @@ def sample_objects(rng, n_objects, class_ratio, params):
     for cls, (name, _) in enumerate(EVERYDAY_RANKS):
         rank = ("soft", "moderate", "hard").index(name)
         lo, hi = params[f"{name}_compliance_range"]
-        kinds = OBJECT_KINDS[name]
+        kinds = [(kind, rank) for kind in OBJECT_KINDS[name]]
         if not params.get("kinds_by_rank", True):
-            # every kind in every rank, in an order of its own per rank (True, the default, draws as before)
-            pool = [kind for r in ("hard", "moderate", "soft") for kind in OBJECT_KINDS[r]]
+            # every kind in every rank, in an order of its own per rank (True, the default, draws as before);
+            # a kind keeps the texture depth of the rank it is listed under (a foam's cells are deep anywhere)
+            pool = [(kind, ("soft", "moderate", "hard").index(r)) for r in ("hard", "moderate", "soft")
+                    for kind in OBJECT_KINDS[r]]
             kinds = [pool[i] for i in rng.permutation(len(pool))]
         for j in range(ranks[name]):
-            kind, shape, r_range, p_range, texture = kinds[j % len(kinds)]
+            (kind, shape, r_range, p_range, texture), home = kinds[j % len(kinds)]
             tex_lo, tex_hi = _TEXTURE_SCALE[texture]
             objects.append(dict(
                 target=cls,
@@ -134,7 +136,7 @@ def sample_objects(rng, n_objects, class_ratio, params):
                 compliance=float(np.exp(rng.uniform(np.log(lo), np.log(hi)))),
                 texture=texture,
                 texture_wavelength=float(rng.uniform(tex_lo, tex_hi)),
-                texture_amplitude=float(params["texture_amplitude"][rank] * rng.uniform(0.6, 1.4)),
+                texture_amplitude=float(params["texture_amplitude"][home] * rng.uniform(0.6, 1.4)),
                 angle=float(rng.uniform(0, np.pi)),
                 texture_seed=int(rng.integers(2**31 - 1)),
             ))
@@ -256,6 +258,21 @@ def _profile(obj, x, y, approach, gel_radius, texture):
     return prof * (1.0 + tau * (texture - 0.5)), a
 
 
+def _conform(prof, kappa, object_share, scale_px):
+    """A compliant object's imprint: ``prof`` smoothed over ``kappa * object_share * scale``.
+
+    A soft body flattens its own edges, points and texture against the gel rather than
+    pressing them into it: the gel sees the same load (the same displaced volume, as the
+    smoothing keeps the profile's integral) spread over a length that grows with the
+    object's share of the deformation (``delta_obj / delta``; near 0 for a rigid object).
+    """
+    sigma = float(kappa * object_share * scale_px)
+    if sigma < 0.3:
+        return prof
+    return cv2.GaussianBlur(np.ascontiguousarray(prof, dtype=np.float32), (0, 0), sigma,
+                            borderType=cv2.BORDER_CONSTANT)
+
+
 def _ambient_field(rng, h2, w2):
     """Smooth zero-mean field of unit s.d. (light leaking through the gel, the approaching hand's shadow)."""
     f = rng.standard_normal((max(h2 // 8, 2), max(w2 // 8, 2))).astype(np.float32)
@@ -298,6 +315,9 @@ def render_everyday_press(sensor, obj, mech, center_mm, rng, params):
             # Thin gel on a rigid backing: its local depth follows the mean contact pressure F / A.
             area = max(float(np.count_nonzero(prof > 0.5)), 1.0) * mm_per_px2**2
             depth = min(depth, float(mech["force_true"][t]) / (params["gel_foundation_modulus"] * area))
+            kappa = params.get("conformity", 0.0)
+            if kappa > 0:  # the same load (gel volume) spread by a compliant object
+                prof = _conform(prof, kappa, mech["object_indentation"][t] / approach, scale / mm_per_px2)
             gy, gx = np.gradient(prof.astype(np.float32), mm_per_px2)
             hx, hy = gx * np.float32(depth), gy * np.float32(depth)
             inv = 1.0 / np.sqrt(1.0 + hx * hx + hy * hy)

@@ -166,6 +166,8 @@ EVERYDAY_SPECS = {
     "texture_amplitude": ("array", 0.0, 2.0, "relative texture depth of soft, moderate and hard objects"),
     "kinds_by_rank": ("bool", None, None, "True: each rank has its own kinds of object (foams soft, pen tips hard, ...); "
                       "False: every rank draws from all kinds, so shape and texture say nothing about hardness"),
+    "conformity": ("float", 0.0, 100.0, "a compliant object's imprint is smoothed over conformity x its share of the "
+                   "deformation x the contact size (0: every object pressed in with its rigid shape)"),
     "hand_fraction": ("float", 0.0, 1.0, "fraction of presses made by hand (uneven speed), the rest by a robot"),
     "hand_speed_range": ("range", 0.1, 1000.0, "approach speed of hand presses ~ U[lo, hi], mm/s"),
     "video_length": ("int", 8, 10000, "frames of a full recording"),
@@ -306,6 +308,7 @@ PRESETS["everyday"] = dict(
     light_spread=60.0,
     light_elevation=80.0,
     kinds_by_rank=True,
+    conformity=0.0,
 )
 
 _NON_PHYSICAL = ("description", "hardness_unit", "n_per_class")
