@@ -178,7 +178,7 @@ def test_learner_properties(counts, batch, cap, strategy, string_labels, seed):
         return
     if missing:
         # a class without initial presses: a clear error naming it, nothing fitted
-        with pytest.raises(ValueError, match=rf"classes \[.*\] are missing from the initial"):
+        with pytest.raises(ValueError, match=r"classes \[.*\] are missing from the initial"):
             learner.fit(X0, y0)
         assert not hasattr(learner, "estimator_")
         return

@@ -49,7 +49,6 @@ import numpy as np
 
 from ..io import read_video, write_video
 from ._sim_mechanics import simulate_press
-from ._sim_optics import SensorOptics
 
 __all__ = [
     "EVERYDAY_RANKS",

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import os
+import textwrap
 
 import numpy as np
+from scipy.signal import savgol_filter
 
 from ._tables import baseline_table
 
@@ -83,8 +85,6 @@ def plot_uncertainty(result, kind="entropy", ax=None):
 
 
 def _smooth(y, window):
-    from scipy.signal import savgol_filter
-
     n = len(y)
     w = min(window, n if n % 2 else n - 1)
     if w < 3:
@@ -138,8 +138,6 @@ def plot_model_baselines(result, ax=None):
            yerr=[100 * r["train_accuracy_std"] for r in rows], capsize=3, label="train")
     ax.bar(x + w / 2, [100 * r["accuracy_mean"] for r in rows], w,
            yerr=[100 * r["accuracy_std"] for r in rows], capsize=3, label="validation")
-    import textwrap
-
     ax.set_xticks(x, [textwrap.fill(str(r["name"]), 14) for r in rows], fontsize="small")
     ax.set_ylabel("accuracy (%)")
     ax.set_ylim(0, 105)

@@ -14,6 +14,8 @@ from sklearn.utils.validation import check_is_fitted
 
 from ..utils._random import draw_seeds, set_random_states
 from ..utils._torch import resolve_device
+from ._convlstm import ConvLSTMClassifier, ConvLSTMNet
+from ._stacked import StackedConvLSTMNet
 
 __all__ = ["EnsembleClassifier"]
 
@@ -33,8 +35,6 @@ _ELEMENTWISE_OPTIMIZERS = (torch.optim.Adam, torch.optim.AdamW, torch.optim.SGD,
 
 def _stacking_obstacle(est, fit_params):
     """Why members cloned from ``est`` cannot train as one stacked net; None when they can."""
-    from ._convlstm import ConvLSTMClassifier, ConvLSTMNet
-
     if not isinstance(est, ConvLSTMClassifier):
         return f"the members are {type(est).__name__}, not ConvLSTMClassifier"
     if est.module is not ConvLSTMNet:
@@ -77,8 +77,6 @@ def _train_stacked(members, X, y, epochs=None, classes=None):
     shared. Weights, buffers and optimiser states end up in the members, so
     they predict, pickle and continue training as if trained separately.
     """
-    from ._stacked import StackedConvLSTMNet
-
     for m in members:
         if not m.initialized_:
             m.initialize()
