@@ -14,7 +14,7 @@ press, so brightness alone is confounded with force and the class (object
 compliance 1.13, 1.02, 0.79, 0.68, 0.44 mm/N, as the paper's silicone set,
 +-3% per press) must be read from the blob's size relative to its
 brightness. Frames are made at 240x320 (GelSight Mini) and downsized with
-cv2.INTER_AREA, as ``ContactFrameSelector(output_size=...)`` does.
+cv2.INTER_AREA, as ``ContactFrameSelector(frame_size=...)`` does.
 
     python benchmarks/bench_convlstm.py [--sizes 30x40,60x80,120x160,240x320] [--epochs 60] [--lr 3e-3]
     LD_PRELOAD=/usr/lib/x86_64-linux-gnu/libtcmalloc_minimal.so.4 python benchmarks/bench_convlstm.py --no-accuracy

@@ -27,7 +27,7 @@ from sklearn_hardness.preprocessing import ContactFrameSelector
 def silicone5_frames(n_per_class, random_state=0):
     """Selected 18x24 grey difference frames (n, 4, 18, 24, 1) of simulated silicone5, and labels."""
     data = make_presses("silicone5", n_per_class=n_per_class, random_state=random_state)
-    sel = ContactFrameSelector(n_between=2, output_size=(18, 24), color="gray")
+    sel = ContactFrameSelector(n_between=2, frame_size=(18, 24), color="gray")
     return sel.fit_transform(data.videos), np.asarray(data.target)
 
 

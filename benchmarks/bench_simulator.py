@@ -46,7 +46,7 @@ def _check(seed=0):
     from sklearn_hardness.preprocessing import ContactFrameSelector
 
     data = make_presses("silicone5", image_size=(48, 64), random_state=seed)
-    sel = ContactFrameSelector(output_size=(12, 16))
+    sel = ContactFrameSelector(frame_size=(12, 16))
     X = sel.fit_transform(data.videos).reshape(len(data.videos), -1)
     peak = np.array([[c.max()] for c in sel.selection_.curves])
     force = np.array([[f.max()] for f in data.force])

@@ -45,7 +45,7 @@ print(f"test object: {test_object} (rank {data.target_names[rank[test_object]]},
 
 sensor = SimulatedSensor(data, random_state=0)  # a real session: source = 0 (camera) or "press.avi"
 # soft objects barely change the image: a press without detected contact keeps the fallback frames
-select = ContactFrameSelector(n_between=2, output_size=(12, 16), color="gray", on_no_contact="fallback")
+select = ContactFrameSelector(n_between=2, frame_size=(12, 16), color="gray", on_no_contact="fallback")
 warnings.filterwarnings("ignore", category=ContactNotFoundWarning)
 
 

@@ -27,7 +27,7 @@ from sklearn_hardness.models import ConvLSTMClassifier
 from sklearn_hardness.preprocessing import ContactFrameSelector
 
 data = make_presses("silicone5", n_per_class=30, image_size=(96, 128), random_state=0)
-frames = ContactFrameSelector(n_between=2, output_size=(12, 16), color="gray").fit_transform(data.videos)
+frames = ContactFrameSelector(n_between=2, frame_size=(12, 16), color="gray").fit_transform(data.videos)
 y = data.target
 names = data.target_names
 

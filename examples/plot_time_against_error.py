@@ -46,7 +46,7 @@ test = np.setdiff1d(np.arange(len(y)), train)
 # ---------------------------------
 rows = []
 for size in [(6, 8), (12, 16), (24, 32)]:
-    frames = ContactFrameSelector(n_between=2, output_size=size, color="gray").fit_transform(data.videos)
+    frames = ContactFrameSelector(n_between=2, frame_size=size, color="gray").fit_transform(data.videos)
     clf = ConvLSTMClassifier(max_epochs=60, random_state=0)
     t0 = time.perf_counter()
     clf.fit(frames[train], y[train])

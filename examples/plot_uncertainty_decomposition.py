@@ -33,7 +33,7 @@ from sklearn_hardness.models import ConvLSTMClassifier
 from sklearn_hardness.preprocessing import ContactFrameSelector
 
 data = make_presses("silicone5", n_per_class=10, image_size=(96, 128), random_state=0)
-frames = ContactFrameSelector(n_between=2, output_size=(18, 24), color="gray").fit_transform(data.videos)
+frames = ContactFrameSelector(n_between=2, frame_size=(18, 24), color="gray").fit_transform(data.videos)
 y = data.target
 rng = np.random.default_rng(0)
 train = np.concatenate([rng.choice(np.flatnonzero(y == c), 5, replace=False) for c in np.unique(y)])

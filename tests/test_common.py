@@ -77,7 +77,7 @@ def _ofnn(**kw):
 # ------------------------------------------------------------------ table 1
 #: name -> (factory of a small, fast instance, kind of input it takes)
 ESTIMATORS = {
-    "ContactFrameSelector": (lambda: ContactFrameSelector(n_between=1, output_size=(12, 16)), "videos"),
+    "ContactFrameSelector": (lambda: ContactFrameSelector(n_between=1, frame_size=(12, 16)), "videos"),
     "OpticalFlowFeatures": (lambda: OpticalFlowFeatures(n_features=8, min_distance=3), "frames"),
     "DINOv2Features": (
         lambda: DINOv2Features(model=_tiny_dinov2_backbone(), image_size=28, batch_size=4), "frames"

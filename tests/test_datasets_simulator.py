@@ -216,7 +216,7 @@ def test_lazy_videos_work_with_sklearn_indexing(small):
 
 def test_cross_val_score_on_lazy_videos(small):
     pipe = make_pipeline(
-        ContactFrameSelector(output_size=(6, 8), color="gray"),
+        ContactFrameSelector(frame_size=(6, 8), color="gray"),
         FunctionTransformer(lambda X: X.reshape(len(X), -1)),
         LogisticRegression(max_iter=200),
     )
@@ -233,7 +233,7 @@ def test_hardness_is_not_readable_from_one_scalar():
     same model on the 4 selected difference frames (12x16) scores about 0.7-0.8.
     """
     data = make_presses(n_per_class=24, image_size=SMALL, random_state=1)
-    selector = ContactFrameSelector(output_size=(12, 16))
+    selector = ContactFrameSelector(frame_size=(12, 16))
     X = selector.fit_transform(data.videos)
     assert selector.selection_.contact_found.all()
     peak = np.array([[c.max()] for c in selector.selection_.curves])

@@ -43,7 +43,7 @@ def test_frame_and_feature_steps_come_from_the_factories():
         assert _frame_params(cfg, name) == {"n_between": 2, "output_size": size, "color": color,
                                             "subtract_first": subtract_first}
         selector = model_pipeline(name, cfg).named_steps["frames"]
-        assert selector.output_size == size and selector.color == color
+        assert selector.frame_size == size and selector.color == color
     cfg = check_config(get_config("silicone5", model="contact_profile_nn"))
     assert _frame_params(cfg, "contact_profile_nn") is None
     assert _feature_params(cfg, "contact_profile_nn") == {"kind": "contact_profile", "max_side": 80}
@@ -68,5 +68,5 @@ def test_frame_size_is_checked_by_one_rule():
     for bad in [(1, 16), (12,), "12x16", (12.0, 16), (True, 16)]:
         with pytest.raises(ValueError, match="'frame_size' parameter .* pair \\(height, width\\)"):
             check_config(get_config("silicone5", frame_size=bad))
-        with pytest.raises(ValueError, match="'output_size' parameter .* pair \\(height, width\\)"):
-            ContactFrameSelector(output_size=bad).fit([np.zeros((4, 8, 8, 3), np.uint8)])
+        with pytest.raises(ValueError, match="'frame_size' parameter .* pair \\(height, width\\)"):
+            ContactFrameSelector(frame_size=bad).fit([np.zeros((4, 8, 8, 3), np.uint8)])

@@ -69,7 +69,7 @@ def test_pipeline_inputs_and_their_switches():
     assert pipe.predict_proba_samples(data.videos[20:23], n_samples=4, random_state=0).shape == (4, 3, 5)
     paper = make_convlstm_pipeline(class_weight=None)
     assert [n for n, _ in paper.steps] == ["frames", "scale", "clf"] and paper[-1].class_weight is None
-    assert paper.named_steps["frames"].output_size == (12, 16)
+    assert paper.named_steps["frames"].frame_size == (12, 16)
     ofnn = make_ofnn_pipeline(flow_output="tracks", class_weight=None)
     assert ofnn.named_steps["features"].output == "tracks" and ofnn[-1].class_weight is None
     assert make_ofnn_pipeline().named_steps["features"].output == "magnitude_quantiles"

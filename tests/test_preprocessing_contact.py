@@ -47,7 +47,7 @@ def test_output_values_and_layout():
 
 def test_resize_crop_and_grey():
     video = synthetic_press(n_frames=25, size=(48, 64))
-    sel = ContactFrameSelector(output_size=(12, 16), roi=(0.25, 0.75, 0.25, 0.75), color="gray")
+    sel = ContactFrameSelector(frame_size=(12, 16), roi=(0.25, 0.75, 0.25, 0.75), color="gray")
     out = sel.fit_transform([video])
     assert out.shape == (1, 4, 12, 16, 1)
     assert sel.frame_shape_ == (12, 16, 1)
@@ -124,13 +124,31 @@ def test_videos_of_different_lengths_and_sizes():
     c = synthetic_press(n_frames=30, size=(60, 80))
     out = ContactFrameSelector().fit_transform([a, b])
     assert out.shape == (2, 4, 48, 64, 3)
-    with pytest.raises(ValueError, match="different frame sizes.*output_size"):
+    with pytest.raises(ValueError, match="different frame sizes.*frame_size"):
         ContactFrameSelector().fit_transform([a, c])
-    out = ContactFrameSelector(output_size=(24, 32)).fit_transform([a, b, c])
+    out = ContactFrameSelector(frame_size=(24, 32)).fit_transform([a, b, c])
     assert out.shape == (3, 4, 24, 32, 3)
     sel = ContactFrameSelector().fit([a])
     with pytest.raises(ValueError, match="seen in fit"):
         sel.transform([c])
+
+
+def test_output_size_is_the_deprecated_name_of_frame_size():
+    a = synthetic_press(n_frames=25, size=(48, 64))
+    c = synthetic_press(n_frames=30, size=(60, 80))
+    new = ContactFrameSelector(frame_size=(24, 32)).fit_transform([a, c])
+    with pytest.warns(FutureWarning, match="`output_size` was renamed `frame_size`"):
+        old = ContactFrameSelector(output_size=(24, 32)).fit_transform([a, c])
+    np.testing.assert_array_equal(old, new)
+    with pytest.warns(FutureWarning, match="renamed"):
+        selection = ContactFrameSelector(output_size=(24, 32)).select([a, c])
+    np.testing.assert_array_equal(selection.indices, ContactFrameSelector().select([a, c]).indices)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", FutureWarning)  # the new name does not warn
+        ContactFrameSelector(frame_size=(24, 32)).fit([a])
+    with pytest.raises(ValueError, match="Both frame_size and output_size are set"), \
+            pytest.warns(FutureWarning):
+        ContactFrameSelector(frame_size=(24, 32), output_size=(24, 32)).fit([a])
 
 
 def test_float_and_grey_input():
@@ -175,7 +193,7 @@ def test_nan_frames_name_the_video_and_frame():
         ({"n_between": -1}, "n_between"),
         ({"threshold": "high"}, "threshold"),
         ({"threshold": -2}, "threshold"),
-        ({"output_size": (10,)}, "output_size"),
+        ({"frame_size": (10,)}, "frame_size"),
         ({"roi": (0.5, 0.2, 0, 1)}, "roi"),
         ({"color": "hsv"}, "color"),
         ({"on_no_contact": "skip"}, "on_no_contact"),
@@ -196,7 +214,7 @@ def test_transform_before_fit():
 
 def test_sklearn_api_with_videos():
     videos = [synthetic_press(seed=s, contact_start=8 + s % 3) for s in range(6)]
-    sel = ContactFrameSelector(n_between=1, output_size=(12, 16), n_jobs=2)
+    sel = ContactFrameSelector(n_between=1, frame_size=(12, 16), n_jobs=2)
     assert clone(sel).get_params() == sel.get_params()
     out = sel.fit_transform(videos)
     np.testing.assert_array_equal(out, sel.transform(videos))  # fit_transform == fit + transform
@@ -210,7 +228,7 @@ def test_in_a_pipeline_with_cross_validation():
     # class 1 presses are brighter: learnable from the selected frames
     videos = [synthetic_press(seed=i, amplitude=30 + 60 * y[i], size=(24, 32)) for i in range(12)]
     pipe = make_pipeline(
-        ContactFrameSelector(output_size=(6, 8)),
+        ContactFrameSelector(frame_size=(6, 8)),
         FunctionTransformer(lambda x: x.reshape(len(x), -1)),
         LogisticRegression(max_iter=500),
     )
@@ -382,14 +400,14 @@ def test_crop_contact_centres_a_fixed_window_on_the_change():
         video[t, 10 - r:10 + r, 15 - r:15 + r] = 200
     full = ContactFrameSelector(color="gray").fit_transform([video])
     crop = ContactFrameSelector(color="gray", crop_contact=0.5).fit_transform([video])
-    assert crop.shape == (1, 4, 20, 30, 1)  # half the height and width, no output_size
+    assert crop.shape == (1, 4, 20, 30, 1)  # half the height and width, no frame_size
     # the window is the 20x30 block centred on the blob, clipped into the frame: rows 0..20, cols 0..30
     np.testing.assert_allclose(crop[0], full[0, :, 0:20, 0:30], rtol=1e-5, atol=1e-7)  # float32 sums differ by order
     # the fixed size keeps the contact's size: the blob covers the same number of pixels
     assert (np.abs(crop[0, -1]) > 0.2).sum() == (np.abs(full[0, -1]) > 0.2).sum()
-    # with output_size the crop is resized: the blob fills a larger part of the output
-    small_full = ContactFrameSelector(color="gray", output_size=(10, 15)).fit_transform([video])
-    small_crop = ContactFrameSelector(color="gray", output_size=(10, 15), crop_contact=0.5).fit_transform([video])
+    # with frame_size the crop is resized: the blob fills a larger part of the output
+    small_full = ContactFrameSelector(color="gray", frame_size=(10, 15)).fit_transform([video])
+    small_crop = ContactFrameSelector(color="gray", frame_size=(10, 15), crop_contact=0.5).fit_transform([video])
     assert (np.abs(small_crop[0, -1]) > 0.1).sum() > 2 * (np.abs(small_full[0, -1]) > 0.1).sum()
 
 

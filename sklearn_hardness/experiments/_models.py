@@ -90,7 +90,8 @@ def frame_params(cfg, model):
     selector = pipe.named_steps["frames"]
     params = {
         "n_between": int(selector.n_between),
-        "output_size": tuple(int(s) for s in selector.output_size),
+        # the cache's key keeps the selector's former parameter name, so cached frames stay valid
+        "output_size": tuple(int(s) for s in selector.frame_size),
         "color": selector.color,
         "subtract_first": bool(selector.subtract_first),
     }

@@ -184,7 +184,7 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
     :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`. The input
     is standardised inside the net with statistics of the first training data
     (``standardize``). Small frames are enough and much faster: see the
-    ``output_size`` of the frame selector and ``benchmarks/bench_convlstm.py``.
+    ``frame_size`` of the frame selector and ``benchmarks/bench_convlstm.py``.
 
     Parameters
     ----------

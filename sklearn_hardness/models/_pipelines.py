@@ -121,7 +121,7 @@ class FrameScaler(TransformerMixin, BaseEstimator):
 
 def _selector(n_between, frame_size, color, subtract_first=True):
     return ContactFrameSelector(
-        n_between=n_between, output_size=frame_size, color=color, subtract_first=subtract_first
+        n_between=n_between, frame_size=frame_size, color=color, subtract_first=subtract_first
     )
 
 

@@ -10,7 +10,7 @@ import numpy as np
 from joblib import Parallel, delayed
 from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
 from sklearn.utils import Bunch
-from sklearn.utils._param_validation import Interval, StrOptions
+from sklearn.utils._param_validation import Hidden, Interval, StrOptions
 from sklearn.utils.validation import check_is_fitted
 
 from ..utils._param_validation import FRAME_SIZE
@@ -67,9 +67,14 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         Output the selected frames minus the first frame of the video (in
         [-1, 1]), as the paper does; if False, output the raw frames (in
         [0, 1]).
-    output_size : tuple (height, width) or None, default=None
+    frame_size : tuple (height, width) or None, default=None
         Resize the selected frames (``cv2.INTER_AREA``). Needed when videos
-        of different sizes are mixed; ``None`` keeps the input size.
+        of different sizes are mixed; ``None`` keeps the input size. The same
+        name as the ``frame_size`` of the model factories and the
+        experiments' configuration.
+
+        .. versionchanged:: 0.1
+           Renamed from ``output_size``, the name it had before.
     roi : tuple (top, bottom, left, right) or None, default=None
         Crop each frame to this region, given as fractions of the height
         and width (e.g. ``(0.1, 0.9, 0.1, 0.9)``), before everything else.
@@ -78,9 +83,9 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         Cut every press to a window of this fraction of the frame's height
         and width (after ``roi``), centred on where the press changed the
         image (the centroid of the change from the first to the last
-        selected frame), before resizing: at the same ``output_size`` the
+        selected frame), before resizing: at the same ``frame_size`` the
         net sees the contact at ``1 / crop_contact`` times the resolution,
-        or the same detail at a smaller ``output_size``. The window has the
+        or the same detail at a smaller ``frame_size``. The window has the
         same size for every press, so the size of the contact, a cue of
         hardness, is kept (a box fitted to each contact would scale it
         away). A press with no change keeps the centre of the frame.
@@ -106,6 +111,11 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
     n_jobs : int or None, default=None
         Videos processed in parallel (joblib threads; OpenCV and NumPy
         release the GIL). ``None`` means 1, ``-1`` all cores.
+    output_size : tuple (height, width) or None, default="deprecated"
+        The former name of ``frame_size``.
+
+        .. deprecated:: 0.1
+           Use ``frame_size``; ``output_size`` will be removed in 0.2.
 
     Attributes
     ----------
@@ -147,7 +157,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
       one that never reaches contact (warning or error, ``on_no_contact``).
       A numeric ``threshold`` needs no baseline and still applies.
     - *Videos of different lengths* are fine; different frame sizes need
-      ``output_size``.
+      ``frame_size``.
     - A single-frame video, NaN/inf frames, float frames outside [0, 1] and
       non-numeric input raise errors naming the video.
 
@@ -173,7 +183,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         *,
         threshold="auto",
         subtract_first=True,
-        output_size=None,
+        frame_size=None,
         roi=None,
         crop_contact=None,
         color="rgb",
@@ -181,11 +191,12 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         n_baseline=5,
         min_contrast=0.3,
         n_jobs=None,
+        output_size="deprecated",
     ):
         self.n_between = n_between
         self.threshold = threshold
         self.subtract_first = subtract_first
-        self.output_size = output_size
+        self.frame_size = frame_size
         self.roi = roi
         self.crop_contact = crop_contact
         self.color = color
@@ -193,12 +204,14 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         self.n_baseline = n_baseline
         self.min_contrast = min_contrast
         self.n_jobs = n_jobs
+        self.output_size = output_size
 
     _parameter_constraints: dict = {
         "n_between": [Interval(numbers.Integral, 0, None, closed="left")],
         "threshold": [StrOptions({"auto"}), Interval(numbers.Real, 0, None, closed="left")],
         "subtract_first": ["boolean"],
-        "output_size": [None, FRAME_SIZE],
+        "frame_size": [None, FRAME_SIZE],
+        "output_size": [Hidden(StrOptions({"deprecated"})), None, FRAME_SIZE],
         "roi": [None, tuple, list],
         "crop_contact": [None, Interval(numbers.Real, 0, 1, closed="neither")],
         "color": [StrOptions({"rgb", "gray"})],
@@ -219,6 +232,26 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
             raise ValueError(
                 "roi must be None or (top, bottom, left, right) fractions in [0, 1] with "
                 f"top < bottom and left < right, got {roi!r}."
+            )
+
+    def _resolved_frame_size(self):
+        """``frame_size``, or the deprecated ``output_size`` where that was set."""
+        if self.output_size == "deprecated":
+            return self.frame_size
+        if self.frame_size is not None:
+            raise ValueError(
+                "Both frame_size and output_size are set; output_size is the deprecated name of "
+                "frame_size: set frame_size only."
+            )
+        return self.output_size
+
+    def _warn_output_size(self):
+        if self.output_size != "deprecated":
+            warnings.warn(
+                "`output_size` was renamed `frame_size` in 0.1 and will be removed in 0.2; "
+                "use frame_size=(height, width).",
+                FutureWarning,
+                stacklevel=3,
             )
 
     # --------------------------------------------------------------- selection
@@ -249,6 +282,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
             contact; or if a video is invalid.
         """
         self._validate_params()  # select may be called without fit
+        self._warn_output_size()
         return self._run(X, extract=False)[1]
 
     def _run(self, X, extract):
@@ -260,6 +294,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         fixes. Returns ``(frames or None, selection)``.
         """
         self._check_sizes()
+        frame_size = self._resolved_frame_size()
         check_video_sequence(X)
         kwargs = dict(
             k=self.n_between + 2,
@@ -278,13 +313,13 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
             results[i] = _select_one(video, name=name, **kwargs)
             if not extract:
                 return
-            frames = self._extract(video, results[i][0], name)
+            frames = self._extract(video, results[i][0], name, frame_size)
             if out is None:
                 return frames
             if frames.shape != out.shape[1:]:
                 raise ValueError(
                     f"Videos have different frame sizes (X[0]: {out.shape[2:4]}, {name}: "
-                    f"{frames.shape[1:3]}); set output_size=(height, width) to resize them."
+                    f"{frames.shape[1:3]}); set frame_size=(height, width) to resize them."
                 )
             out[i] = frames
 
@@ -326,7 +361,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
             )
         return out, selection
 
-    def _extract(self, video, indices, name):
+    def _extract(self, video, indices, name, frame_size):
         """The selected frames of one validated video, scaled, cropped, converted, resized."""
         rows, cols = _roi_slices(video.shape[1:3], self.roi, name)
         if self.crop_contact is not None:
@@ -340,8 +375,8 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
             frames = frames[..., np.newaxis]
         elif self.color == "rgb" and frames.shape[-1] == 1:
             frames = np.repeat(frames, 3, axis=-1)
-        if self.output_size is not None:
-            h, w = self.output_size
+        if frame_size is not None:
+            h, w = frame_size
             if frames.shape[1:3] != (h, w):
                 resized = [cv2.resize(f, (w, h), interpolation=cv2.INTER_AREA) for f in frames]
                 frames = np.stack([r if r.ndim == 3 else r[..., np.newaxis] for r in resized])
@@ -379,6 +414,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         -------
         frames : ndarray of shape (n, n_between + 2, H', W', C'), float32
         """
+        self._warn_output_size()
         out, selection = self._run(X, extract=True)
         self.selection_ = selection
         self.n_frames_out_ = self.n_between + 2
@@ -404,7 +440,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         if tuple(out.shape[2:]) != self.frame_shape_:
             raise ValueError(
                 f"X gives frames of shape {tuple(out.shape[2:])} but the videos seen in fit gave "
-                f"{self.frame_shape_}; set output_size to make them equal."
+                f"{self.frame_shape_}; set frame_size to make them equal."
             )
         return out
 
