@@ -87,10 +87,21 @@ def main():
             lo, hi = row["balanced_accuracy_ci"]
             cells.append(f"{row['balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]".rjust(24))
         rows.append(f"{p:<{width}}  " + "  ".join(cells))
+    recall_rows = []
+    for v in args.variants:
+        names = results[v].get("target_names")
+        for p in pipelines:
+            cm = np.asarray(results[v].confusion[p], dtype=float)
+            recall = np.diag(cm) / np.maximum(cm.sum(axis=1), 1)
+            cells = " / ".join(f"{r:.2f}" for r in recall)
+            recall_rows.append(f"{v}  {p:<{width}}  {cells}")
+        header_recall = f"recall per rank ({' / '.join(map(str, names))}):" if names is not None else "recall per rank:"
+        recall_rows.insert(len(recall_rows) - len(pipelines), header_recall)
     text = "\n".join([
         f"everyday preset variants, balanced accuracy [95% CI over 5 object-disjoint folds], seed {args.seed}, "
         "chance 0.33",
         *rows,
+        *recall_rows,
         *lines,
         f"peak RSS of the main process {peak_rss_mb():.0f} MB",
     ])
