@@ -89,14 +89,11 @@ def main():
         rows.append(f"{p:<{width}}  " + "  ".join(cells))
     recall_rows = []
     for v in args.variants:
-        names = results[v].get("target_names")
+        recall_rows.append(f"recall per rank ({' / '.join(map(str, results[v].target_names))}):")
         for p in pipelines:
             cm = np.asarray(results[v].confusion[p], dtype=float)
             recall = np.diag(cm) / np.maximum(cm.sum(axis=1), 1)
-            cells = " / ".join(f"{r:.2f}" for r in recall)
-            recall_rows.append(f"{v}  {p:<{width}}  {cells}")
-        header_recall = f"recall per rank ({' / '.join(map(str, names))}):" if names is not None else "recall per rank:"
-        recall_rows.insert(len(recall_rows) - len(pipelines), header_recall)
+            recall_rows.append(f"{v}  {p:<{width}}  " + " / ".join(f"{r:.2f}" for r in recall))
     text = "\n".join([
         f"everyday preset variants, balanced accuracy [95% CI over 5 object-disjoint folds], seed {args.seed}, "
         "chance 0.33",

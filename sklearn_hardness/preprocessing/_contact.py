@@ -222,7 +222,12 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
     }
 
     def _check_sizes(self):
-        """What the constraint table cannot say: the contents of ``roi``."""
+        """What the constraint table cannot say: the contents of ``roi``; not both size names."""
+        if self.output_size != "deprecated" and self.frame_size is not None:
+            raise ValueError(
+                "Both frame_size and output_size are set; output_size is the deprecated name of "
+                "frame_size: set frame_size only."
+            )
         roi = self.roi
         if roi is not None and (
             len(roi) != 4
@@ -235,15 +240,8 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
             )
 
     def _resolved_frame_size(self):
-        """``frame_size``, or the deprecated ``output_size`` where that was set."""
-        if self.output_size == "deprecated":
-            return self.frame_size
-        if self.frame_size is not None:
-            raise ValueError(
-                "Both frame_size and output_size are set; output_size is the deprecated name of "
-                "frame_size: set frame_size only."
-            )
-        return self.output_size
+        """``frame_size``, or the deprecated ``output_size`` where that was set (checked in ``_check_sizes``)."""
+        return self.frame_size if self.output_size == "deprecated" else self.output_size
 
     def _warn_output_size(self):
         if self.output_size != "deprecated":
