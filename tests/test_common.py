@@ -106,6 +106,8 @@ ESTIMATORS = {
 NOT_CHECKED = {
     "MCDropoutClassifierBase": "abstract base of the nets (no module); checked through its subclasses",
     "MCDropoutPipeline": "a sklearn Pipeline (meta-estimator); its steps are checked one by one",
+    "FrameAugmenter": "a parameter object of ConvLSTMClassifier (no fit, predict or transform); "
+    "its get_params/clone are checked through the net's, in tests/test_models_augmentation.py",
 }
 
 # ------------------------------------------------------------------ table 2

@@ -5,6 +5,8 @@
 * :class:`ContactProfileNNClassifier`: MLP head on contact-profile features of the
   loading phase (the input that carries over to new objects).
 * :class:`ConvLSTMClassifier`: ConvLSTM trained end to end on selected frames.
+* :class:`FrameAugmenter`: random mirroring, gain, drift and noise of the
+  ConvLSTM's training batches.
 * :class:`EnsembleClassifier`: differently seeded copies of a classifier, whose
   spread replaces MC dropout as the source of ``predict_proba_samples``.
 * :class:`StackedConvLSTMNet`: K independent nets stepped as one module
@@ -17,6 +19,7 @@ classes). :class:`EarlyStoppingAfterFirstFit` stops the trainings after the
 first one early (active sampling's ``partial_fit`` per query).
 """
 
+from ._augmentation import FrameAugmenter
 from ._callbacks import EarlyStoppingAfterFirstFit
 from ._convergence import chance_scaled_threshold, check_convergence, is_converged
 from ._convlstm import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
@@ -42,6 +45,7 @@ __all__ = [
     "make_contact_profile_pipeline",
     "FrameScaler",
     "IntensityChannels",
+    "FrameAugmenter",
     "MCDropoutPipeline",
     "OFNNClassifier",
     "DINOv2NNClassifier",

@@ -6,8 +6,10 @@ import numbers
 
 import numpy as np
 import torch
-from sklearn.utils._param_validation import Interval, StrOptions
+from skorch.dataset import unpack_data
+from sklearn.utils._param_validation import HasMethods, Interval, StrOptions
 
+from ..utils._random import derived_seeds
 from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
 from ._mc_dropout import MCDropoutClassifierBase
@@ -211,6 +213,13 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         ``dropout_placement`` (``--set dropout_placement=layers`` for the
         paper's placement; hashed only when not ``"head"``, so earlier
         results files stay resumable).
+    augment : FrameAugmenter or None, default=None
+        Random nuisance transforms (mirroring, gain, exposure drift, noise)
+        applied to every training batch, drawn anew each time; never to
+        prediction. Any object with an ``augment(X, generator)`` method that
+        returns a tensor of the same shape works; a ``check(n_channels)``
+        method, if present, validates it against the input at ``fit``. See
+        :class:`FrameAugmenter` and ``make_convlstm_pipeline(augment=True)``.
     standardize : bool, default=True
         Standardise the input per channel with the mean and standard
         deviation of the training frames of the cold-start ``fit`` (or first
@@ -222,8 +231,9 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         (:func:`sklearn.utils.class_weight.compute_class_weight` on the
         cold-start training labels); a dict maps labels to weights.
     random_state : int, RandomState instance or None, default=None
-        Seeds the initial weights, the shuffling and the training dropout
-        masks (without touching torch's global generator).
+        Seeds the initial weights, the shuffling, the training dropout
+        masks and the augmentations (without touching torch's global
+        generator).
     criterion : torch criterion class, default=torch.nn.CrossEntropyLoss
     optimizer : torch optimizer class, default=torch.optim.Adam
     lr : float, default=3e-3
@@ -332,6 +342,7 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         "kernel_size": [Interval(numbers.Integral, 1, None, closed="left")],
         "dropout_placement": [StrOptions(set(DROPOUT_PLACEMENTS))],
         "standardize": ["boolean"],
+        "augment": [HasMethods(["augment"]), None],
     }
     _input_meta_attrs = ("n_frames_in_", "frame_shape_", "input_mean_", "input_scale_")
 
@@ -343,6 +354,7 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         kernel_size=3,
         dropout=0.2,
         dropout_placement="head",
+        augment=None,
         standardize=True,
         class_weight=None,
         random_state=None,
@@ -376,7 +388,38 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         self.filters = filters
         self.kernel_size = kernel_size
         self.dropout_placement = dropout_placement
+        self.augment = augment
         self.standardize = standardize
+
+    _generator_attrs = MCDropoutClassifierBase._generator_attrs + ("augment_generator_",)
+
+    def initialize(self):
+        """Validate the parameters, seed the generators (augmentations too) and initialise the net.
+
+        Returns
+        -------
+        self
+        """
+        super().initialize()
+        seed = self.init_seed_
+        # derived from the initial-weight seed, so the other generators' seeds are unchanged
+        self.augment_generator_ = (
+            None if seed is None else torch.Generator().manual_seed(derived_seeds([seed, 1], 1)[0])
+        )
+        return self
+
+    def _prepare_training(self, X, y):
+        super()._prepare_training(X, y)
+        if self.augment is not None and hasattr(self.augment, "check"):
+            self.augment.check(self.frame_shape_[-1])
+
+    def train_step_single(self, batch, **fit_params):
+        """skorch's step on a batch transformed by ``augment`` (when set)."""
+        if self.augment is not None:
+            Xi, yi = unpack_data(batch)
+            Xi = self.augment.augment(torch.as_tensor(Xi), generator=self.augment_generator_)
+            batch = (Xi, yi)
+        return super().train_step_single(batch, **fit_params)
 
     def _check_X(self, X, reset):
         if reset:

@@ -39,6 +39,8 @@ def _stacking_obstacle(est, fit_params):
         return f"the members are {type(est).__name__}, not ConvLSTMClassifier"
     if est.module is not ConvLSTMNet:
         return "the members' module is not ConvLSTMNet"
+    if getattr(est, "augment", None) is not None:
+        return "the members augment their training batches"
     if est.callbacks:
         return "the members have callbacks (they could stop at different epochs)"
     if est.train_split is not None:

@@ -60,9 +60,10 @@ class NetPersistenceMixin:
         for name in self._generator_attrs:
             saved = self.__dict__.get(name)
             if isinstance(saved, SavedGenerator):
-                # the shuffling generator is always a CPU one; the dropout masks' lives on the
-                # net's device, which skorch has just mapped to the CPU if CUDA is missing here
-                device = torch.device("cpu") if name == "shuffle_generator_" else torch.device(self.device)
+                # the shuffling and augmentation generators are CPU ones; the dropout masks'
+                # lives on the net's device, which skorch has just mapped to the CPU if CUDA is
+                # missing here
+                device = torch.device(self.device) if name == "dropout_generator_" else torch.device("cpu")
                 self.__dict__[name] = saved.restore(device)
 
     def load_params(self, f_params=None, *args, **kwargs):

@@ -24,6 +24,7 @@ from ..features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatur
 from ..preprocessing import ContactFrameSelector
 from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
+from ._augmentation import FrameAugmenter
 from ._convlstm import ConvLSTMClassifier
 from ._intensity_channels import IntensityChannels
 from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
@@ -126,7 +127,7 @@ def _selector(n_between, frame_size, color, subtract_first=True):
 
 
 def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", intensity_channels=False,
-                           **classifier_params):
+                           augment=False, **classifier_params):
     """Videos -> contact frames -> :class:`FrameScaler` -> [:class:`IntensityChannels`] -> :class:`ConvLSTMClassifier`.
 
     Which input is best depends on whether the test objects were seen in
@@ -162,6 +163,13 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
     intensity_channels : bool, default=False
         Append each frame's log mean, spread and maximum change as channels
         (:class:`IntensityChannels`): for objects not seen in training.
+    augment : bool or FrameAugmenter, default=False
+        Random mirroring and gain of every training batch (the
+        :class:`ConvLSTMClassifier`'s ``augment``). True: a default
+        :class:`FrameAugmenter` whose ``log_channels`` are the intensity
+        channels when ``intensity_channels=True``; a :class:`FrameAugmenter`
+        is used as given. What it changed, measured, is in
+        :class:`FrameAugmenter`'s Notes.
     **classifier_params
         Passed to :class:`ConvLSTMClassifier` (e.g. ``dropout``,
         ``dropout_placement="layers"`` for the paper's dropout after each
@@ -186,6 +194,13 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
     """
 
     classifier_params.setdefault("class_weight", "balanced")
+    if augment is True:
+        n_frame_channels = 3 if color == "rgb" else 1
+        log_channels = list(range(n_frame_channels, n_frame_channels + 3)) if intensity_channels else []
+        augment = FrameAugmenter(log_channels=log_channels)
+    elif augment is False:
+        augment = None
+    classifier_params["augment"] = augment
     steps = [("frames", _selector(n_between, frame_size, color)), ("scale", FrameScaler())]
     if intensity_channels:
         steps.append(("intensity", IntensityChannels()))
