@@ -151,6 +151,27 @@ def test_output_size_is_the_deprecated_name_of_frame_size():
         ContactFrameSelector(frame_size=(24, 32), output_size=(24, 32)).fit([a])
 
 
+@pytest.mark.parametrize("call", ["fit", "fit_transform", "pipeline", "select"])
+def test_warnings_name_the_users_line_whatever_the_path(call):
+    # scikit-learn's fit and set_output wrappers add a different number of frames per
+    # method; the warnings must still point here, not into scikit-learn or this package
+    videos = [synthetic_press(n_frames=25, size=(48, 64)), no_contact(n_frames=20, size=(48, 64))]
+    sel = ContactFrameSelector(output_size=(24, 32))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        if call == "fit":
+            sel.fit(videos)
+        elif call == "fit_transform":
+            sel.fit_transform(videos)
+        elif call == "pipeline":
+            make_pipeline(sel).fit_transform(videos)
+        else:
+            sel.select(videos)
+    kinds = {w.category for w in caught}
+    assert {FutureWarning, ContactNotFoundWarning} <= kinds
+    assert {w.filename for w in caught if w.category in kinds} == {__file__}
+
+
 def test_float_and_grey_input():
     video = synthetic_press()
     as_float = video.astype(np.float32) / 255.0

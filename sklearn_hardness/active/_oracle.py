@@ -9,6 +9,8 @@ import numpy as np
 from sklearn.utils import _safe_indexing, check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
+from ..utils._warnings import external_stacklevel
+
 __all__ = ["PressOracle"]
 
 _ON_EXHAUSTED = ("raise", "truncate", "recycle")
@@ -212,14 +214,14 @@ class PressOracle:
                 f"reference object {key!r}: asked for {n} presses, only {left} "
                 "unseen remain; returning those.",
                 UserWarning,
-                stacklevel=4,
+                stacklevel=external_stacklevel(),
             )
             return left
         warnings.warn(
             f"reference object {key!r}: asked for {n} presses, only {left} "
             "unseen remain; reusing its presses in a new random order.",
             UserWarning,
-            stacklevel=4,
+            stacklevel=external_stacklevel(),
         )
         return n
 

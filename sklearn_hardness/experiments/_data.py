@@ -23,7 +23,7 @@ from tqdm.auto import tqdm
 from ..datasets import load_press_videos, make_presses
 from ..features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
 from ..preprocessing import ContactFrameSelector
-
+from ..utils._warnings import external_stacklevel
 from ._config import MODEL_NAMES
 from ._models import feature_params as _feature_params
 from ._models import frame_params as _frame_params
@@ -102,7 +102,7 @@ def _select_frames(videos, frame_params, verbose, n_jobs=None):
             f"{n_fallback} of {n} videos never reached contact; their frames were chosen by "
             "ContactFrameSelector's fallback rule.",
             UserWarning,
-            stacklevel=3,
+            stacklevel=external_stacklevel(),
         )
     return np.concatenate(out, axis=0)
 

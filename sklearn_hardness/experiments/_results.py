@@ -19,6 +19,8 @@ import warnings
 
 import numpy as np
 
+from ..utils._warnings import external_stacklevel
+
 __all__ = ["ResultsStore", "ExperimentResult", "key_id"]
 
 
@@ -122,7 +124,7 @@ class ResultsStore:
                 f"{self.path}: ignoring a torn last line (an interrupted write); "
                 f"{len(self.records)} complete runs kept, the torn line is removed.",
                 UserWarning,
-                stacklevel=3,
+                stacklevel=external_stacklevel(),
             )
             with open(self.path, "r+b") as f:
                 f.truncate(good_end)
@@ -133,7 +135,7 @@ class ResultsStore:
         kid = key_id(rec["key"])
         if kid in self._ids:
             warnings.warn(
-                f"{self.path}: duplicate run {kid}; the first one is kept.", UserWarning, stacklevel=4
+                f"{self.path}: duplicate run {kid}; the first one is kept.", UserWarning, stacklevel=external_stacklevel()
             )
             return
         self._ids.add(kid)

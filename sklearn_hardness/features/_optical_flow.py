@@ -14,6 +14,7 @@ from sklearn.utils._param_validation import Interval, StrOptions
 from sklearn.utils.validation import check_is_fitted
 
 from ..utils._param_validation import Pair, ValueRange
+from ..utils._warnings import external_stacklevel
 from ..utils._validation import check_frames_array
 from ..utils._tags import frames_tags
 from ._common import to_uint8_grey
@@ -371,7 +372,7 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
                 + (". Use include_valid=True to give the mask to the classifier." if tracks
                    else ". The magnitude quantiles use the corners found in the first frame."),
                 UserWarning,
-                stacklevel=3,
+                stacklevel=external_stacklevel(),
             )
 
     def get_feature_names_out(self, input_features=None):

@@ -12,6 +12,7 @@ import numpy as np
 from sklearn.utils._param_validation import HasMethods, Interval, validate_params
 
 from ..utils._param_validation import FRAME_SIZE
+from ..utils._warnings import external_stacklevel
 from ._video import _to_rgb, write_video
 
 __all__ = ["record_video"]
@@ -151,7 +152,7 @@ def record_video(source, *, n_frames=None, duration=None, fps=None, size=None, p
         warnings.warn(
             f"Capture source {source!r} ended after {len(frames)} of {n} frames; returning those.",
             UserWarning,
-            stacklevel=2,
+            stacklevel=external_stacklevel(),
         )
     video = np.stack(frames)
     if path is not None:

@@ -10,6 +10,8 @@ import numpy as np
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.utils._param_validation import Interval, validate_params
 
+from ..utils._warnings import external_stacklevel
+
 __all__ = ["chance_scaled_threshold", "is_converged", "check_convergence"]
 
 
@@ -179,6 +181,6 @@ def check_convergence(net, threshold=1.0, *, n_classes=None):
             f"Training did not converge: final training loss {loss:.4g} > {limit:.4g} "
             "(the paper skips such runs). Train longer, lower the learning rate or check the input.",
             ConvergenceWarning,
-            stacklevel=2,
+            stacklevel=external_stacklevel(),
         )
     return converged

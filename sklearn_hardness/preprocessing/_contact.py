@@ -16,6 +16,7 @@ from sklearn.utils.validation import check_is_fitted
 from ..utils._param_validation import FRAME_SIZE
 from ..utils._tags import videos_tags
 from ..utils._validation import check_video, check_video_sequence
+from ..utils._warnings import external_stacklevel
 
 from ._contact_curve import _as_float255, _contact_window, _min_frames_auto, _roi_slices, _select_one
 
@@ -249,7 +250,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
                 "`output_size` was renamed `frame_size` in 0.1 and will be removed in 0.2; "
                 "use frame_size=(height, width).",
                 FutureWarning,
-                stacklevel=3,
+                stacklevel=external_stacklevel(),
             )
 
     # --------------------------------------------------------------- selection
@@ -355,7 +356,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
                 "; ".join(f"{head} ({which})" for head, which in problems)
                 + "; their frames were spread from the first frame to the frame of largest change.",
                 ContactNotFoundWarning,
-                stacklevel=3,
+                stacklevel=external_stacklevel(),
             )
         return out, selection
 
