@@ -17,7 +17,7 @@ from sklearn_hardness.active import (
     variance_decomposition,
     variance_sampling,
 )
-from sklearn_hardness.active._learner import _concat_rows
+from sklearn_hardness.active._rows import concat_rows as _concat_rows
 from sklearn_hardness.metrics import hardness_mae
 
 from ._active_net import MCDropoutNet, make_blobs, make_net

@@ -7,8 +7,6 @@ import inspect
 from numbers import Integral, Real
 
 import numpy as np
-import scipy.sparse as sp
-import torch
 from skorch import NeuralNet
 from sklearn.base import (
     BaseEstimator,
@@ -20,7 +18,7 @@ from sklearn.base import (
 from sklearn.exceptions import NotFittedError
 from sklearn.metrics import accuracy_score
 from sklearn.pipeline import Pipeline
-from sklearn.utils import _safe_indexing, check_random_state
+from sklearn.utils import check_random_state
 from sklearn.utils._param_validation import (
     HasMethods,
     Interval,
@@ -29,10 +27,10 @@ from sklearn.utils._param_validation import (
 )
 from sklearn.utils.validation import check_is_fitted
 
-from ..datasets import LazyVideoSequence
 from ..models import EnsembleClassifier, MCDropoutClassifierBase
 from ..utils._random import int_seed
 from ..utils._torch import seeded_torch_rng
+from ._rows import concat_rows, n_rows, training_subset
 from ._strategies import STRATEGY_NAMES, get_strategy, variance_sampling
 from ._uncertainty import UNCERTAINTY_KINDS, class_uncertainty, variance_decomposition
 
@@ -48,35 +46,6 @@ def _trains_in_epochs(est):
     if isinstance(est, EnsembleClassifier):
         return _is_skorch_net(est.estimator)
     return _is_skorch_net(est)
-
-
-def _concat_rows(a, b):
-    """Concatenate two row collections of the same kind (arrays, tensors, lists)."""
-    if isinstance(a, np.ndarray) and isinstance(b, np.ndarray):
-        if a.shape[1:] != b.shape[1:]:
-            raise ValueError(
-                f"new samples have shape {b.shape[1:]} per sample, the reservoir "
-                f"holds {a.shape[1:]}."
-            )
-        return np.concatenate([a, b], axis=0)
-    if hasattr(a, "detach") and hasattr(b, "detach"):  # torch tensors
-        return torch.cat([a, b], dim=0)
-    if sp.issparse(a) or sp.issparse(b):
-        return sp.vstack([a, b], format="csr")
-    if (
-        isinstance(a, LazyVideoSequence)
-        and isinstance(b, LazyVideoSequence)
-        and a.loader is b.loader
-    ):  # stay lazy: only the keys are concatenated
-        return a.concatenate(b)
-    # other sequences of videos: a list of the (loaded) items
-    return [a[i] for i in range(len(a))] + [b[i] for i in range(len(b))]
-
-
-def _n_rows(X):
-    if hasattr(X, "shape") and getattr(X, "ndim", 1) >= 1:
-        return X.shape[0]
-    return len(X)
 
 
 def _accepts_kwargs(func, names):
@@ -488,7 +457,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         y = np.asarray(y)
         if y.ndim != 1:
             raise ValueError(f"y must be 1-D, got shape {y.shape}.")
-        n = _n_rows(X)
+        n = n_rows(X)
         if n == 0:
             raise ValueError("X is empty: the initial training set needs presses.")
         if n != y.shape[0]:
@@ -601,7 +570,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         strategy = get_strategy(self.query_strategy)
         if X_test is None:
             raise ValueError("X_test is None; pass presses of the test object.")
-        if _n_rows(X_test) == 0:
+        if n_rows(X_test) == 0:
             raise ValueError(
                 "X_test is empty: uncertainty strategies need at least one press of "
                 "the test object."
@@ -683,7 +652,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
                 "teach() called before fit(): train on the initial presses first."
             )
         y_new = self._check_labels(y_new, "y_new")
-        n_new = _n_rows(X_new)
+        n_new = n_rows(X_new)
         if n_new == 0:
             raise ValueError("X_new is empty: teach() needs at least one new press.")
         if n_new != y_new.shape[0]:
@@ -702,15 +671,10 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
                 "max_reservoir or teach fewer presses at a time."
             )
         Xt_new = self._transform(X_new)
-        self.reservoir_X_ = _concat_rows(self.reservoir_X_, Xt_new)
+        self.reservoir_X_ = concat_rows(self.reservoir_X_, Xt_new)
         self.reservoir_y_ = np.concatenate([self.reservoir_y_, y_new])
         size = self.reservoir_y_.shape[0]
-        if M is not None and size > M:
-            subset = self._rng.choice(size, M, replace=False)
-            X_train = _safe_indexing(self.reservoir_X_, subset)
-            y_train = self.reservoir_y_[subset]
-        else:
-            X_train, y_train = self.reservoir_X_, self.reservoir_y_
+        X_train, y_train = training_subset(self.reservoir_X_, self.reservoir_y_, M, self._rng)
         loss, epochs_run = self._train(X_train, y_train, self.epochs_per_query)
         self.n_iterations_ += 1
         self.n_presses_ += n_new
