@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 import torch
 from sklearn.base import clone
+from sklearn.model_selection import GridSearchCV
 
 from sklearn_hardness.models import (
     ConvLSTMClassifier,
@@ -131,6 +132,22 @@ def test_augmented_training_is_reproducible_and_survives_pickle_and_clone():
     d = clone(make())
     assert d.get_params()["augment"].get_params() == make().augment.get_params()
     assert "augment__gain" in make().get_params(deep=True)
+
+
+def test_nested_augmenter_parameters_work_in_a_grid_search():
+    pipe = make_convlstm_pipeline(intensity_channels=True, augment=True)
+    pipe.set_params(clf__augment__gain=0.7)
+    assert pipe[-1].augment.gain == 0.7 and clone(pipe)[-1].augment.gain == 0.7
+    assert pipe.get_params()["clf__augment__gain"] == 0.7
+    assert "augment__gain" not in vars(pipe[-1])
+    with pytest.raises(ValueError, match="set augment=FrameAugmenter"):
+        ConvLSTMClassifier().set_params(augment__gain=0.5)
+    X = np.random.default_rng(3).normal(size=(12, 2, 4, 5, 1)).astype("float32")
+    y = np.arange(12) % 2
+    search = GridSearchCV(ConvLSTMClassifier(filters=(2,), augment=FrameAugmenter(), max_epochs=1, random_state=0),
+                          {"augment__gain": [0.0, 0.5]}, cv=2).fit(X, y)
+    assert [p["augment__gain"] for p in search.cv_results_["params"]] == [0.0, 0.5]
+    assert search.best_estimator_.augment.gain in (0.0, 0.5)
 
 
 def test_ensemble_of_augmented_nets_trains_its_members_separately():

@@ -393,6 +393,29 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
 
     _generator_attrs = MCDropoutClassifierBase._generator_attrs + ("augment_generator_",)
 
+    def set_params(self, **kwargs):
+        """Set parameters; ``augment__<name>`` sets a parameter of the augmenter.
+
+        skorch keeps every other ``<prefix>__<name>`` key for its own parts
+        (``module__``, ``optimizer__``...), so nested augmenter parameters are
+        routed here, as scikit-learn does for nested estimators
+        (``GridSearchCV(pipe, {"clf__augment__gain": [...]})``).
+
+        Returns
+        -------
+        self
+        """
+        nested = {k[len("augment__"):]: kwargs.pop(k) for k in list(kwargs) if k.startswith("augment__")}
+        super().set_params(**kwargs)
+        if nested:
+            if not hasattr(self.augment, "set_params"):
+                raise ValueError(
+                    f"augment__{next(iter(nested))} was given but augment is {self.augment!r}; "
+                    "set augment=FrameAugmenter(...) first."
+                )
+            self.augment.set_params(**nested)
+        return self
+
     def initialize(self):
         """Validate the parameters, seed the generators (augmentations too) and initialise the net.
 
