@@ -16,7 +16,7 @@ two ways per seed:
   grasps ordered by softness (``bench_sim_to_real.py``; ``--roi`` crops to the gel).
 
     python benchmarks/bench_augmentation.py [--seeds 0 1 2] [--param NAME=VALUE ...]
-        [--augmenters none flip,gain=0.2 ...] [--data .../example_data [--roi]] [--cache DIR] [--n-jobs 2]
+        [--augmenters none flip,gain=0.2 ...] [--data .../example_data [--roi]] [--cache DIR] [--n-jobs 2] [--out FILE]
 
 An augmenter is ``none`` or comma-separated ``FrameAugmenter`` settings
 (``flip``, ``noflip``, ``gain=G``, ``drift=D``, ``noise=N``; unnamed ones
@@ -25,6 +25,8 @@ seeds, time and peak memory.
 """
 
 import argparse
+import shlex
+import sys
 import time
 
 import numpy as np
@@ -34,7 +36,7 @@ from _memory import peak_rss_mb
 from bench_sim_to_real import simulated
 from bench_sim_vs_real_stats import parse_param
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import evaluate_pipelines
+from sklearn_hardness.experiments import evaluate_pipelines, provenance_header
 from sklearn_hardness.models import FrameAugmenter, make_convlstm_pipeline
 
 
@@ -63,6 +65,12 @@ def pipeline(spec, seed):
 
 
 def main():
+    out = []
+
+    def say(text):
+        out.append(text)
+        print(text, flush=True)
+
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, nargs="+", default=[0])
     parser.add_argument("--param", action="append", default=[], type=parse_param,
@@ -72,6 +80,7 @@ def main():
     parser.add_argument("--roi", action="store_true", help="crop the real grasps to the gel")
     parser.add_argument("--cache", default=None, help="folder to keep the rendered simulated sets in")
     parser.add_argument("--n-jobs", type=int, default=2)
+    parser.add_argument("--out", default=None, help="also write the output here, after a provenance line")
     args = parser.parse_args()
     for spec in args.augmenters:
         parse_augmenter(spec)
@@ -81,11 +90,11 @@ def main():
     real = None
     if args.data:
         real = load_estimate_modulus(args.data, roi=GEL_ROI if args.roi else None, stride=2)
-    print(f"everyday {variant or '(preset)'}; ConvLSTM with intensity channels; seeds {args.seeds}"
-          + (f"; real Wedge grasps {'gel ROI' if args.roi else 'full frame'}" if real is not None else ""))
+    say(f"everyday {variant or '(preset)'}; ConvLSTM with intensity channels; seeds {args.seeds}"
+        + (f"; real Wedge grasps {'gel ROI' if args.roi else 'full frame'}" if real is not None else ""))
     header = "| seed | augmenter | sim balanced accuracy [95% CI] | recall per rank | baseline |"
     header += " real pairs right (of 9) |" if real is not None else ""
-    print(header, flush=True)
+    say(header)
     rows = {spec: [] for spec in args.augmenters}
     for seed in args.seeds:
         data = make_presses("everyday", random_state=seed, **variant)
@@ -109,16 +118,20 @@ def main():
             rows[spec].append((bal, base, right))
             line = f"| {seed} | {spec} | {bal:.2f} [{lo:.2f}, {hi:.2f}] | {recall} | {base:.2f} |"
             line += f" {right} |" if real is not None else ""
-            print(line, flush=True)
-    print("\nmeans over seeds:")
+            say(line)
+    say("\nmeans over seeds:")
     for spec, r in rows.items():
         a = np.asarray([x[0] for x in r])
         line = f"  {spec:<24} sim {a.mean():.3f} (s.d. {a.std():.3f})"
         if real is not None:
             line += f", real pairs right {np.mean([x[2] for x in r]):.2f} of 9 ({[x[2] for x in r]})"
-        print(line)
-    print(f"baseline sim {np.mean([x[1] for x in rows[args.augmenters[0]]]):.3f}")
-    print(f"\n{time.perf_counter() - t0:.0f} s, peak RSS of the main process {peak_rss_mb():.0f} MB")
+        say(line)
+    say(f"baseline sim {np.mean([x[1] for x in rows[args.augmenters[0]]]):.3f}")
+    say(f"\n{time.perf_counter() - t0:.0f} s, peak RSS of the main process {peak_rss_mb():.0f} MB")
+    if args.out:
+        command = shlex.join(["python", "benchmarks/bench_augmentation.py", *sys.argv[1:]])
+        with open(args.out, "w") as f:
+            f.write(provenance_header(command) + "\n" + "\n".join(out) + "\n")
 
 
 if __name__ == "__main__":
