@@ -17,6 +17,7 @@ from sklearn_hardness.experiments import (
     format_evaluation,
     make_peak_change_baseline,
     peak_contact_change,
+    plot_confusion_matrices,
     run_model_baselines,
 )
 
@@ -200,3 +201,15 @@ def test_contact_profile_pipelines_share_their_features_per_fold(tiny, monkeypat
     assert len(calls) == 6
     for name in names:
         np.testing.assert_array_equal(shared.predictions[name], own.predictions[name])
+
+
+def test_plot_confusion_matrices_draws_one_row_normalised_matrix_per_pipeline(tmp_path):
+    data = make_presses("everyday", n_per_class=2, n_objects=9, class_ratio=[1, 1, 1],
+                        image_size=(32, 40), codec=None, random_state=0)
+    result = evaluate_pipelines(data, pipelines={"dummy": DummyClassifier(strategy="prior")}, cv=3, verbose=0)
+    fig = plot_confusion_matrices(result, path=tmp_path / "cm.png")
+    assert (tmp_path / "cm.png").stat().st_size > 0
+    axes = [ax for ax in fig.axes if ax.images]
+    assert len(axes) == len(result.confusion) == 2
+    shown = np.asarray(axes[0].images[0].get_array())
+    np.testing.assert_allclose(shown.sum(axis=1), 1.0)  # recall per true class
