@@ -175,7 +175,8 @@ class FrameAugmenter(BaseEstimator):
         n, k, _, _, C = X.shape
         channels, log_channels = self.check(C)
         dev, dtype = X.device, X.dtype
-        # every draw is made whether or not it is used, so the stream does not depend on the settings
+        # flips, gains and drifts are drawn whatever the settings, so turning one on leaves the others'
+        # draws as they were; the noise, drawn last, only when it is used
         flips = torch.rand(n, 2, generator=generator) < 0.5
         log_gain = torch.randn(n, generator=generator, dtype=torch.float64) * float(self.gain)
         slope = torch.randn(n, generator=generator, dtype=torch.float64) * float(self.drift)
