@@ -114,7 +114,11 @@ def test_signal_stops_the_workers_and_keeps_the_results(tmp_path, signum):
     results = out / "results.jsonl"
     workers = []
     with open(log, "w") as err_file:  # a file, not a pipe: workers left running would hold a pipe open
-        proc = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=err_file)
+        # a shell without job control starts background commands with SIGINT ignored, and the
+        # child would inherit that (as `cmd &` users expect); the test is about a foreground
+        # run, so the child starts with the default disposition
+        proc = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=err_file,
+                                preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.time() + 240
     try:
         while not (results.exists() and results.read_bytes().count(b"\n") >= 2):
