@@ -33,11 +33,12 @@ import numpy as np
 
 from _estimate_modulus import GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
 from _memory import peak_rss_mb
+from bench_sim_confounds import recall_per_rank
 from bench_sim_to_real import simulated
 from bench_sim_vs_real_stats import parse_param
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.experiments import evaluate_pipelines, provenance_header
-from sklearn_hardness.models import FrameAugmenter, make_convlstm_pipeline
+from sklearn_hardness.models import make_convlstm_pipeline
 
 
 def parse_augmenter(spec):
@@ -59,9 +60,10 @@ def parse_augmenter(spec):
 
 
 def pipeline(spec, seed):
+    """The ConvLSTM of ``evaluate``; its factory's augmenter (log channels set) with ``spec``'s settings."""
     kw = parse_augmenter(spec)
-    augment = False if kw is None else FrameAugmenter(log_channels=[1, 2, 3], **kw)
-    return make_convlstm_pipeline(intensity_channels=True, augment=augment, random_state=seed)
+    pipe = make_convlstm_pipeline(intensity_channels=True, augment=kw is not None, random_state=seed)
+    return pipe if kw is None else pipe.set_params(**{f"clf__augment__{k}": v for k, v in kw.items()})
 
 
 def main():
@@ -107,8 +109,7 @@ def main():
         for spec in args.augmenters:
             bal = table[spec]["balanced_accuracy"]
             lo, hi = table[spec]["balanced_accuracy_ci"]
-            cm = np.asarray(res.confusion[spec], dtype=float)
-            recall = " / ".join(f"{r:.2f}" for r in np.diag(cm) / np.maximum(cm.sum(axis=1), 1))
+            recall = recall_per_rank(res.confusion[spec])
             right = None
             if real is not None:
                 est = pipeline(spec, seed).fit(videos, target)

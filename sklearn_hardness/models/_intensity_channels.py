@@ -14,7 +14,8 @@ from ..utils._validation import check_frames_array
 
 __all__ = ["IntensityChannels"]
 
-_STATS = ("log_mean", "log_std", "log_max")
+#: The statistics appended per frame, one channel each, in this order.
+INTENSITY_STATS = ("log_mean", "log_std", "log_max")
 
 
 class IntensityChannels(TransformerMixin, BaseEstimator):
@@ -118,7 +119,7 @@ class IntensityChannels(TransformerMixin, BaseEstimator):
         n, k, h, w, c = X.shape
         a = np.abs(X).reshape(n, k, -1)
         stats = np.log(self.floor + np.stack([a.mean(axis=2), a.std(axis=2), a.max(axis=2)], axis=-1))
-        out = np.empty((n, k, h, w, c + len(_STATS)), np.float32)
+        out = np.empty((n, k, h, w, c + len(INTENSITY_STATS)), np.float32)
         out[..., :c] = X
         out[..., c:] = stats[:, :, None, None, :]
         return out

@@ -26,7 +26,7 @@ from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
 from ._augmentation import FrameAugmenter
 from ._convlstm import ConvLSTMClassifier
-from ._intensity_channels import IntensityChannels
+from ._intensity_channels import INTENSITY_STATS, IntensityChannels
 from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
 
 __all__ = [
@@ -196,7 +196,8 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
     classifier_params.setdefault("class_weight", "balanced")
     if augment is True:
         n_frame_channels = 3 if color == "rgb" else 1
-        log_channels = list(range(n_frame_channels, n_frame_channels + 3)) if intensity_channels else []
+        n_log = len(INTENSITY_STATS) if intensity_channels else 0
+        log_channels = list(range(n_frame_channels, n_frame_channels + n_log))
         augment = FrameAugmenter(log_channels=log_channels)
     elif augment is False:
         augment = None
