@@ -33,7 +33,7 @@ def main():
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
     cfg = check_config(get_config("silicone5", quick=args.quick))
-    inputs = prepare_inputs("silicone5", cfg, cfg["model"], verbose=0, scale=False)  # disk-cached
+    inputs = prepare_inputs("silicone5", cfg, cfg["model"], verbose=0)  # disk-cached
     resolve_convergence_threshold(cfg, inputs.n_classes)
     t = time.perf_counter()
     if args.mode == "shared":

@@ -88,7 +88,7 @@ def one_config(name, seeds, n_jobs, cache):
     torch.set_num_threads(threads)
     n_jobs = max(1, n_jobs // threads)
     cfg = get_config("silicone5", **overrides)
-    prepare_inputs("silicone5", cfg, cfg["model"], memory=cache, verbose=0, scale=False)  # cached, not timed
+    prepare_inputs("silicone5", cfg, cfg["model"], memory=cache, verbose=0)  # cached, not timed
     t = time.perf_counter()
     res = run_active_sampling("silicone5", strategies=("variance",), seeds=range(seeds), n_jobs=n_jobs,
                               memory=cache, verbose=0, **overrides)

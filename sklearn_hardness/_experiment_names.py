@@ -61,7 +61,7 @@ KEY_HELP = {
     "frame_size": "(height, width) of the selected frames (None: the model's, 12x16 for the ConvLSTM)",
     "color": "'gray' or 'rgb' frames (None: the model's)",
     "crop_contact": "f in (0, 1): cut each press to f x the frame around its contact (None: whole frames)",
-    "input_scale": "'std': ConvLSTM frames divided by their std over each run's training presses; None: raw",
+    "input_scale": "'std': the ConvLSTM's FrameScaler, fitted on each run's training presses; None: raw frames",
     "dinov2_model": "DINOv2 weights: a Hugging Face id in the local cache or a local folder",
     "device": "torch device of the named models: cpu, cuda, cuda:1 or auto",
     "image_size": "(height, width) of simulated frames",

@@ -260,6 +260,35 @@ def test_model_baselines_and_dropout_sweep(tmp_path):
         run_model_baselines(data, models=("ofnn", "ofnn"), **kw)
 
 
+def test_model_baselines_scale_inputs_on_each_run_s_training_presses(monkeypatch, tmp_path):
+    # the factory's scale step (FrameScaler for the ConvLSTM), fitted on the run's training presses only
+    import sklearn_hardness.experiments._baselines as baselines
+    from sklearn_hardness.experiments._data import prepare_inputs
+    from sklearn_hardness.experiments._config import check_config, get_config
+    from sklearn_hardness.models import FrameScaler
+
+    fitted = []
+
+    class Recording(FrameScaler):
+        def fit(self, X, y=None):
+            fitted.append(np.array(X, copy=True))
+            return super().fit(X, y)
+
+    orig = baselines.input_scaler
+    monkeypatch.setattr(baselines, "input_scaler", lambda model, cfg: (
+        Recording() if isinstance(orig(model, cfg), FrameScaler) else orig(model, cfg)))
+    data = tiny_presses()
+    kw = dict(n_train_per_class=3, n_test_per_class=2, n_runs=1, verbose=0, initial_epochs=2, frame_size=(8, 10))
+    res = run_model_baselines(data, models=("convlstm",), results_path=tmp_path / "b.jsonl", **kw)
+    assert len(fitted) == 1 and fitted[0].shape[0] == 3 * len(np.unique(data.target))
+    raw = prepare_inputs(data, check_config(dict(get_config("silicone5", frame_size=(8, 10)), model="convlstm")),
+                         "convlstm", verbose=0).X
+    test_rows = raw[np.asarray(res.records[0]["test_indices"])]
+    assert not any(np.array_equal(row, fit_row) for row in test_rows for fit_row in fitted[0])
+    assert orig("convlstm", dict(get_config("silicone5"), input_scale=None)) is None
+    assert orig("ofnn", get_config("silicone5")) is None
+
+
 def test_experiment_result_helpers():
     recs = [{"key": {"strategy": "a", "seed": 0}, "accuracy": [0.0, 1.0], "converged": True},
             {"key": {"strategy": "a", "seed": 1}, "accuracy": [0.5], "converged": False},

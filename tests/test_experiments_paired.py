@@ -11,6 +11,7 @@ from sklearn_hardness.experiments import run_active_sampling
 from sklearn_hardness.experiments._run import _active_run
 from sklearn_hardness.experiments._config import check_config, get_config
 from sklearn_hardness.experiments._data import prepare_inputs
+from sklearn_hardness.models import FrameScaler
 
 from ._exp_data import TINY, tiny_presses
 
@@ -21,7 +22,7 @@ _COMPARED = ("accuracy", "mae", "variance", "entropy", "bald", "queried", "predi
 def _unshared(model, strategies, tc, seed, **cfg):
     """Records as before the sharing: every strategy trains its own initial model."""
     cfg = check_config(dict(get_config("silicone5", **dict(TINY, **cfg)), model=model))
-    inputs = prepare_inputs(tiny_presses(), cfg, model, verbose=0, scale=False)
+    inputs = prepare_inputs(tiny_presses(), cfg, model, verbose=0)
     return [_active_run(inputs.X, inputs.y, inputs.hardness, cfg, model, inputs.n_classes,
                         list(inputs.target_names), s, tc, seed, None) for s in strategies]
 
@@ -100,26 +101,27 @@ def test_input_scale_is_fitted_on_training_presses_only(monkeypatch):
     import sklearn_hardness.experiments._run as active
 
     seen = []
-    orig = active._input_scale
+    orig = active._input_scaler
 
     def recording(X_train, cfg, model):
         seen.append(np.array(X_train, copy=True))
         return orig(X_train, cfg, model)
 
-    monkeypatch.setattr(active, "_input_scale", recording)
+    monkeypatch.setattr(active, "_input_scaler", recording)
     kw = dict(TINY, frame_size=(8, 10), n_mc_samples=3, initial_epochs=2, epochs_per_query=1,
               convergence_threshold=None)
     res = run_active_sampling(tiny_presses(), model="convlstm", strategies=("random",), test_classes=[0],
                               seeds=[0], n_jobs=1, verbose=0, **kw)
     rec = res.records[0]
     cfg = check_config(dict(get_config("silicone5", **kw), model="convlstm"))
-    raw = prepare_inputs(tiny_presses(), cfg, "convlstm", verbose=0, scale=False).X
+    raw = prepare_inputs(tiny_presses(), cfg, "convlstm", verbose=0).X
     assert len(seen) == 1
     np.testing.assert_array_equal(seen[0], raw[np.asarray(rec["initial_indices"])])
     # the scale is the initial training set's, which differs from the std over all presses (test included)
-    scale = orig(seen[0], cfg, "convlstm")
-    assert scale == pytest.approx(1 / np.std(raw[np.asarray(rec["initial_indices"])]))
-    assert scale != pytest.approx(1 / np.std(raw), rel=1e-3)
+    scaler = orig(seen[0], cfg, "convlstm")
+    assert isinstance(scaler, FrameScaler)  # the factory's own step, as in a user's pipeline
+    assert scaler.scale_ == pytest.approx(np.std(raw[np.asarray(rec["initial_indices"])]))
+    assert scaler.scale_ != pytest.approx(np.std(raw), rel=1e-3)
     assert orig(seen[0], dict(cfg, input_scale=None), "convlstm") is None
     assert orig(seen[0], cfg, "ofnn") is None
 

@@ -204,8 +204,10 @@ def run_active_sampling(
     with the same (test object, seed) share the test presses, the initial
     presses, the initial weights and the oracle's order (paired): the
     initial model is trained once per pair and copied into each strategy.
-    The ConvLSTM's input scale (``input_scale="std"``) is fitted on the
-    run's initial training presses.
+    The model's input scaling, its factory's ``"scale"`` step (the ConvLSTM's
+    :class:`~sklearn_hardness.models.FrameScaler` with ``input_scale="std"``,
+    the contact profile's ``StandardScaler``), is fitted on the run's initial
+    training presses.
 
     **Many objects per class** (an ``object_id`` with more than one object
     in some class: the ``"everyday"`` preset, or a manifest with an
@@ -322,8 +324,8 @@ def run_active_sampling(
     """
     cfg, model = _run_config(dataset, preset, model, n_runs, quick, config)
     strategies, names = check_strategies(strategies)
-    # the ConvLSTM's input scale is fitted per run on its training presses (_input_scale)
-    inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose, scale=False, n_jobs=n_jobs)
+    # the factory's scale step is fitted per run on its training presses (_run._input_scaler)
+    inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose, n_jobs=n_jobs)
     n_classes = inputs.n_classes
     resolve_convergence_threshold(cfg, n_classes)  # "auto": scaled to ln(n_classes), hashed
     seeds = list(range(cfg["n_runs"])) if seeds is None else _check_int_list(seeds, "seeds")

@@ -12,7 +12,7 @@ from ..models import is_converged
 from ..utils._random import derived_seeds
 from ._config import check_config, config_hash, get_config, resolve_convergence_threshold
 from ._data import prepare_inputs
-from ._models import describe_model, make_estimator
+from ._models import describe_model, input_scaler, make_estimator
 from ._evaluate import _named_pipeline, evaluate_pipelines
 from ._results import ExperimentResult, ResultsStore
 from ._runner import run_tasks
@@ -32,10 +32,15 @@ def _fit_eval_run(X, y, hardness, cfg, model, n_classes, n_train, n_test, seed, 
     train, test = np.concatenate(train), np.concatenate(test)
     est = make_estimator(model, dict(cfg, _override_dropout=dropout is not None), model_seed,
                          n_classes, dropout=dropout)
+    X_train, X_test = X[train], X[test]
+    scaler = input_scaler(model, cfg)  # the factory's scale step, fitted on the run's training presses
+    if scaler is not None:
+        X_train = scaler.fit_transform(X_train)
+        X_test = scaler.transform(X_test)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
-        est.fit(X[train], y[train])
-    pred_train, pred_test = est.predict(X[train]), est.predict(X[test])
+        est.fit(X_train, y[train])
+    pred_train, pred_test = est.predict(X_train), est.predict(X_test)
     history = getattr(est, "history_", None)
     losses = [] if history is None else [float(v) for v in history[:, "train_loss"]]
     loss = losses[-1] if losses else None

@@ -48,8 +48,8 @@ _COMMON = {
     "frame_size": None,  # None: the model factory's (check_config fills it in)
     "color": None,
     # ConvLSTM input: frame differences are small (std ~0.03 of full scale) and
-    # the ConvLSTM barely trains on them; an active-sampling run divides them by
-    # their standard deviation over its initial training presses (never the test
+    # the ConvLSTM barely trains on them; every run scales them with the
+    # factory's FrameScaler fitted on its training presses (never the test
     # presses). None: raw.
     "input_scale": "std",
     "dinov2_model": "facebook/dinov2-small",

@@ -226,7 +226,7 @@ def _meta(data_or_none, dataset, cfg, y):
     return np.asarray(names), hardness, unit
 
 
-def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True, n_jobs=None):
+def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, n_jobs=None):
     """Selected frames (ConvLSTM, custom estimators) or frozen features for all presses.
 
     Parameters
@@ -241,10 +241,6 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True, n
         Disk cache of the transforms (only for presets and manifests): a
         folder, None for :func:`default_cache_dir`, False for none.
     verbose : int, default=1
-    scale : bool, default=True
-        Divide ConvLSTM frames by their standard deviation over all presses
-        (``cfg["input_scale"] == "std"``). The active-sampling runs pass
-        False and fit the scale on each run's training presses instead.
     n_jobs : int or None, default=None
         Threads that find the contact frames (``ContactFrameSelector``
         ``n_jobs``); not part of the cache key.
@@ -287,11 +283,7 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, scale=True, n
             _MEMO[memo_key] = (X, y, data)
             while len(_MEMO) > _MEMO_MAX:
                 _MEMO.pop(next(iter(_MEMO)))
-    if scale and model == "convlstm" and cfg.get("input_scale") == "std":
-        std = float(np.std(X))
-        if std > 0:
-            X = X / np.float32(std)
-    elif cfg.get("input_scale") not in (None, "std"):
+    if cfg.get("input_scale") not in (None, "std"):
         raise ValueError(f"input_scale must be 'std' or None, got {cfg.get('input_scale')!r}.")
     y = np.asarray(y)
     if y.ndim != 1 or y.size == 0 or not np.issubdtype(y.dtype, np.integer) or y.min() < 0:

@@ -100,6 +100,22 @@ def frame_params(cfg, model):
     return params
 
 
+def input_scaler(model, cfg):
+    """The factory's ``"scale"`` step of a named model, unfitted; None where the model's inputs are not scaled.
+
+    The one place the experiments' input scaling comes from: the same
+    transformer a user's pipeline of the model fits (:class:`FrameScaler` for
+    the ConvLSTM, a ``StandardScaler`` for the contact profile). The
+    experiments fit it on the training presses a run may see (see
+    :func:`~._run._initial_state`); ``cfg["input_scale"] = None`` leaves the
+    ConvLSTM's frames raw. Estimators passed by the user scale their own input.
+    """
+    if not isinstance(model, str) or (model == "convlstm" and cfg.get("input_scale") is None):
+        return None
+    step = model_pipeline(model, cfg).named_steps.get("scale")
+    return None if step is None else clone(step)
+
+
 def feature_params(cfg, model):
     """The frozen feature step of a named model as the cache describes it (None: the frames are the input)."""
     if not isinstance(model, str):

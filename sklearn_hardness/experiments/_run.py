@@ -16,7 +16,7 @@ import numpy as np
 from ..active import ActiveLearner, PressOracle, class_uncertainty
 from ..metrics import hardness_mae
 from ..models import is_converged
-from ._models import make_estimator
+from ._models import input_scaler, make_estimator
 
 
 def _seeds(seed, test_class, n, test_object=None):
@@ -44,22 +44,15 @@ def _evaluate(learner, X_test, y_test, hardness):
     return acc, mae, pred
 
 
-def _input_scale(X_train, cfg, model):
-    """The factor that brings the run's training frames to unit standard deviation (None if unscaled).
+def _input_scaler(X_train, cfg, model):
+    """The model's input scaler fitted on the run's initial training presses (None if unscaled).
 
-    Fitted on the initial training presses of the run only (fixed for the run),
-    never on the test object's held-out presses. For ``contact_profile_nn``
-    a (mean, 1 / std) pair per feature: its features differ in scale by orders
-    of magnitude (frames, fractions, log intensities), as a ``StandardScaler``
-    would see them.
+    The factory's ``"scale"`` step (:func:`~._models.input_scaler`): fitted
+    once per run on its initial training presses only, never on the test
+    object's or the held-out presses, and kept for the run.
     """
-    if model == "contact_profile_nn":
-        std = X_train.std(axis=0)
-        return X_train.mean(axis=0).astype(np.float32), (1.0 / np.where(std > 0, std, 1.0)).astype(np.float32)
-    if model != "convlstm" or cfg.get("input_scale") is None:
-        return None
-    std = float(np.std(X_train))
-    return np.float32(1.0 / std) if std > 0 else None
+    scaler = input_scaler(model, cfg)
+    return None if scaler is None else scaler.fit(X_train)
 
 
 def _split(y, cfg, n_classes, test_class, split_seed):
@@ -140,7 +133,7 @@ def _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy, grou
         oracle = PressOracle(pool, y[pool], groups=groups[pool], random_state=oracle_seed,
                              on_exhausted="recycle")
     init_idx, y0 = oracle.initial(cfg["n_initial"])
-    scale = _input_scale(X[init_idx], cfg, model)
+    scale = _input_scaler(X[init_idx], cfg, model)
 
     learner = ActiveLearner(
         make_estimator(model, cfg, model_seed, n_classes),
@@ -160,11 +153,7 @@ def _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy, grou
 
 
 def _rows(X, idx, scale):
-    if scale is None:
-        return X[idx]
-    if isinstance(scale, tuple):  # per-feature standardisation
-        return (X[idx] - scale[0]) * scale[1]
-    return X[idx] * scale
+    return X[idx] if scale is None else scale.transform(X[idx])
 
 
 def _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, state, strategy,

@@ -104,6 +104,28 @@ class FrameScaler(TransformerMixin, BaseEstimator):
     ----------
     scale_ : float
         Standard deviation of the training frames (1.0 if they are constant).
+
+    Notes
+    -----
+    The one global input scale of the package: :func:`make_convlstm_pipeline`
+    puts it before the net, and the experiments fit the same step (the
+    factory's ``"scale"``) on each run's training presses, or on all presses
+    for the model baselines (``input_scale="std"`` of
+    :func:`~sklearn_hardness.experiments.get_config`). The net's own
+    ``standardize`` is a different operation, per channel; a constant factor
+    cancels in it, but not before :class:`IntensityChannels`, whose ``floor``
+    is in the units this step makes (the frames' spread), so the pipeline
+    gives the same intensity channels whether a camera's frames come in grey
+    levels 0-255 or 0-1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.models import FrameScaler
+    >>> X = np.random.default_rng(0).normal(0, 3, size=(4, 2, 6, 8, 1)).astype(np.float32)
+    >>> scaler = FrameScaler().fit(X)
+    >>> round(float(scaler.transform(X).std()), 3)
+    1.0
     """
 
     def fit(self, X, y=None):
