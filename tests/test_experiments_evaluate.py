@@ -52,6 +52,56 @@ def test_folds_are_object_disjoint_and_table_is_complete(tiny):
     assert "object-disjoint 3-fold CV, 12 objects" in text and "dummy" in text
 
 
+class _KnowsTheLabels(BaseEstimator, ClassifierMixin):
+    """Predicts each video's true class (looked up by its bytes): a pipeline far above any baseline."""
+
+    def __init__(self, labels=None):
+        self.labels = labels
+
+    def fit(self, X, y):
+        self.classes_ = np.unique(y)
+        return self
+
+    def predict(self, X):
+        return np.array([self.labels[np.asarray(v).tobytes()] for v in X])
+
+
+class _KnowsTheLabelsWithSamples(_KnowsTheLabels):
+    def predict_proba_samples(self, X, n_samples=2):
+        return np.zeros((n_samples, len(X), len(self.classes_)))
+
+
+def test_recommendation_names_the_best_pipeline_above_the_baseline(tiny):
+    labels = {np.asarray(v).tobytes(): int(c) for v, c in zip(tiny.videos, tiny.target)}
+    pipes = {"dummy": DummyClassifier(strategy="most_frequent"), "oracle": _KnowsTheLabels(labels)}
+    result = evaluate_pipelines(tiny, pipes, cv=3, verbose=0)
+    rows = {r["pipeline"]: r for r in result.table}
+    base = result.fold_scores["peak_change"]
+    for name in ("dummy", "oracle"):  # paired over the same folds
+        assert rows[name]["vs_baseline"] == pytest.approx(np.mean(result.fold_scores[name] - base))
+        lo, hi = rows[name]["vs_baseline_ci"]
+        assert lo <= rows[name]["vs_baseline"] <= hi
+    assert rows["peak_change"]["vs_baseline"] is None
+    assert rows["oracle"]["balanced_accuracy"] == 1.0 and rows["oracle"]["vs_baseline_ci"][0] > 0
+    assert result.recommended == "oracle" and result.recommended_with_samples is None
+    text = format_evaluation(result)
+    assert "Choose oracle" in text and "No pipeline above the baseline has predict_proba_samples" in text
+    # with predict_proba_samples it is also the choice for active sampling
+    pipes["oracle"] = _KnowsTheLabelsWithSamples(labels)
+    result = evaluate_pipelines(tiny, pipes, cv=3, verbose=0)
+    assert result.recommended == result.recommended_with_samples == "oracle"
+    assert {r["pipeline"]: r["predict_proba_samples"] for r in result.table} == {
+        "peak_change": False, "dummy": False, "oracle": True}
+    # nothing above the baseline: no recommendation, and the text says the one number does as well
+    result = evaluate_pipelines(tiny, {"dummy": DummyClassifier(strategy="most_frequent")}, cv=3, verbose=0)
+    assert result.recommended is None and result.recommended_with_samples is None
+    assert "No pipeline is above the one-number baseline" in format_evaluation(result)
+    # without the baseline, no comparison and no recommendation line
+    result = evaluate_pipelines(tiny, {"dummy": DummyClassifier()}, cv=3, baseline=False, verbose=0)
+    assert result.table[0]["vs_baseline"] is None and result.recommended is None
+    assert "Choose" not in format_evaluation(result) and "vs peak:" not in format_evaluation(result)
+
+
 def test_failing_pipeline_is_reported_not_dropped(tiny):
     with pytest.warns(RuntimeWarning, match="boom"):
         result = evaluate_pipelines(tiny, {"bad": _Fails()}, cv=3, error_score=np.nan)
@@ -112,6 +162,7 @@ def test_cli_evaluate_on_a_manifest(tmp_path, capsys, monkeypatch):
     assert (out / "confusion_matrices.png").stat().st_size > 1000
     saved = json.loads((out / "evaluation.json").read_text())
     assert saved["target_names"] == ["hard", "moderate", "soft"] and len(saved["fold_scores"]["peak_change"]) == 3
+    assert saved["recommended"] is None and saved["recommended_with_samples"] is None  # the baseline alone
     # the saved table says what made it: the command less --out, and the code that ran
     from sklearn_hardness.experiments import code_fingerprint, parse_provenance
 

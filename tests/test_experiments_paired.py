@@ -141,3 +141,14 @@ def test_holdout_presses_of_every_class_are_never_trained_on():
     with pytest.raises(ValueError, match="n_holdout"):
         run_active_sampling(data, model="ofnn", test_classes=[1], seeds=[0], verbose=0,
                             **dict(TINY, n_holdout=5))
+
+
+def test_preparing_inputs_raises_no_deprecation_warning_of_our_own():
+    # the cache key names the frame size output_size (cached frames stay valid); the selector must not
+    import warnings
+
+    cfg = check_config(dict(get_config("silicone5", **TINY), frame_size=(8, 10), model="convlstm"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", FutureWarning)
+        inputs = prepare_inputs(tiny_presses(), cfg, "convlstm", memory=False, verbose=0)
+    assert inputs.X.shape[2:4] == (8, 10)

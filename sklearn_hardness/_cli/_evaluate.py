@@ -25,8 +25,10 @@ def _add_evaluate(sub):
         help="object-disjoint cross-validation of pipelines on your recordings or a preset",
         description="Cross-validate pipelines with folds grouped by object_id (no test object is "
         "seen in training), print balanced accuracy and hardness MAE per pipeline beside the "
-        "one-number baseline (peak change to the first frame + balanced logistic regression), and "
-        "save a confusion-matrix figure.",
+        "one-number baseline (peak change to the first frame + balanced logistic regression) with "
+        "each pipeline's margin over it paired by fold, name the pipeline to choose (the best one "
+        "whose margin's 95% interval lies above 0; and the best with predict_proba_samples, for "
+        "active sampling) or say that none beats the one number, and save a confusion-matrix figure.",
     )
     p.add_argument("dataset", help="a manifest.csv (or its folder), or a simulator preset "
                    f"({', '.join(_SIM_PRESETS)})")
@@ -78,6 +80,7 @@ def _run_evaluate(args):
     rows = [{k: (list(v) if isinstance(v, tuple) else v) for k, v in r.items()} for r in result.table]
     (out / "evaluation.json").write_text(json.dumps(
         {"table": rows, "fold_scores": {k: v.tolist() for k, v in result.fold_scores.items()},
+         "recommended": result.recommended, "recommended_with_samples": result.recommended_with_samples,
          "target_names": result.target_names.tolist(), "provenance": parse_provenance(provenance)}, indent=1))
     if not args.quiet:
         print(f"wrote {out / 'evaluation.txt'}, {out / 'confusion_matrices.png'} and {out / 'evaluation.json'}",

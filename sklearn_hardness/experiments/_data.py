@@ -78,8 +78,10 @@ def load_dataset(dataset, cfg):
 
 
 def _select_frames(videos, frame_params, verbose, n_jobs=None):
-
-    selector = ContactFrameSelector(on_no_contact="fallback", n_jobs=n_jobs, **frame_params)
+    params = dict(frame_params)
+    # the cache key keeps the selector's former name, output_size; the selector gets today's
+    params["frame_size"] = params.pop("output_size")
+    selector = ContactFrameSelector(on_no_contact="fallback", n_jobs=n_jobs, **params)
     n = len(videos)
     if n == 0:
         raise ValueError("the dataset has no videos.")

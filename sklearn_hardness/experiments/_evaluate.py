@@ -21,11 +21,9 @@ import numpy as np
 from joblib import Parallel, delayed
 from scipy import stats
 from sklearn.base import clone
-from sklearn.linear_model import LogisticRegression
 from sklearn.metrics import ConfusionMatrixDisplay, balanced_accuracy_score, confusion_matrix
 from sklearn.model_selection import StratifiedGroupKFold
-from sklearn.pipeline import Pipeline, make_pipeline
-from sklearn.preprocessing import FunctionTransformer, StandardScaler
+from sklearn.pipeline import Pipeline
 from sklearn.utils import Bunch, _safe_indexing
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
@@ -34,102 +32,15 @@ from .. import models
 from ..datasets import load_press_videos, make_presses
 from ..datasets._sim_presets import PRESETS
 from ..metrics import hardness_mae
-from ..preprocessing import contact_curve
 from ..utils._random import int_seed
+from ._peak_baseline import make_peak_change_baseline
 from ._runner import ProgressLog
 
 __all__ = [
     "evaluate_pipelines",
-    "make_peak_change_baseline",
-    "peak_contact_change",
     "format_evaluation",
     "plot_confusion_matrices",
 ]
-
-
-
-def peak_contact_change(videos, roi=None):
-    """Log of the peak mean absolute change to the first frame, one per video.
-
-    The one number a first look at a press gives: the maximum of
-    :func:`~sklearn_hardness.preprocessing.contact_curve`.
-
-    Parameters
-    ----------
-    videos : sequence of array-like of shape (T, H, W, 3)
-        Press videos (a list or a lazy sequence).
-    roi : tuple (top, bottom, left, right) or None, default=None
-        Only this region of each frame (fractions of its height and width),
-        e.g. the gel where the frame also shows the sensor housing.
-
-    Returns
-    -------
-    feature : ndarray of shape (n_videos, 1)
-        ``log(0.1 + max_t curve(t))`` (the log evens out the spread of
-        strong contacts; 0.1 keeps one-frame videos finite).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from sklearn_hardness.experiments import peak_contact_change
-    >>> video = np.full((4, 16, 16, 3), 100, np.uint8)
-    >>> video[3, :4, :4] = 116
-    >>> peak_contact_change([video]).round(3).tolist()
-    [[0.095]]
-    """
-
-    roi = _check_roi(roi)
-    return np.array([[np.log(0.1 + float(np.max(contact_curve(v, roi=roi))))] for v in videos])
-
-
-def _check_roi(roi):
-    if roi is None:
-        return None
-    try:
-        values = tuple(float(v) for v in roi)
-    except (TypeError, ValueError):
-        values = ()
-    if (len(values) != 4 or not all(0 <= v <= 1 for v in values)
-            or not (values[0] < values[1] and values[2] < values[3])):
-        raise ValueError("roi must be None or (top, bottom, left, right) fractions in [0, 1] with "
-                         f"top < bottom and left < right, got {roi!r}.")
-    return values
-
-
-def make_peak_change_baseline(class_weight="balanced", roi=None):
-    """The one-number baseline: peak change to the first frame + logistic regression.
-
-    Parameters
-    ----------
-    class_weight : "balanced", dict or None, default="balanced"
-        Passed to :class:`~sklearn.linear_model.LogisticRegression`;
-        ``"balanced"`` keeps imbalanced ranks from collapsing onto the
-        majority class.
-    roi : tuple (top, bottom, left, right) or None, default=None
-        Measure the change on this region of the frames only (fractions of
-        height and width; see :func:`peak_contact_change`). Where the frame
-        shows more than the gel (a GelSight Wedge grasp shows the housing
-        and the other finger), the region matters: trained on the
-        ``everyday`` preset, the baseline orders 8 of 9 within-family pairs
-        of the public real grasps of ``GelSight-lab/EstimateModulus`` by
-        softness on the gel region, 6 of 9 on the whole frame
-        (``benchmarks/bench_sim_to_real.py``).
-
-    Returns
-    -------
-    pipeline : :class:`~sklearn.pipeline.Pipeline`
-        ``FunctionTransformer(peak_contact_change)`` -> ``StandardScaler`` ->
-        ``LogisticRegression``; takes a sequence of videos.
-
-    Examples
-    --------
-    >>> from sklearn_hardness.experiments import make_peak_change_baseline
-    >>> [name for name, _ in make_peak_change_baseline().steps]
-    ['functiontransformer', 'standardscaler', 'logisticregression']
-    """
-    roi = _check_roi(roi)
-    return make_pipeline(FunctionTransformer(peak_contact_change, kw_args=None if roi is None else {"roi": roi}),
-                         StandardScaler(), LogisticRegression(class_weight=class_weight))
 
 
 def _named_pipeline(name, seed=None):
@@ -244,7 +155,12 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
     (:class:`~sklearn.model_selection.StratifiedGroupKFold` over
     ``object_id``), so the score says how a pipeline does on a new object.
     Every pipeline sees the same folds; the one-number baseline
-    (:func:`make_peak_change_baseline`) runs beside them.
+    (:func:`make_peak_change_baseline`) runs beside them, and each pipeline's
+    margin over it is paired by fold. ``recommended`` names the pipeline to
+    choose for these objects: the best one whose margin's 95% interval lies
+    above 0, or None when the one number does as well within the spread of
+    the folds (on real recordings of unseen objects the paper's nets did not
+    beat it, issue 20: measure before choosing).
 
     Parameters
     ----------
@@ -295,15 +211,29 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
         table : list of dict
             Per pipeline: ``pipeline``, ``balanced_accuracy`` and
             ``balanced_accuracy_ci`` (mean over folds and its 95%
-            t-interval), ``mae`` and ``mae_ci`` (hardness MAE, None without
-            hardness), ``fit_predict_seconds`` (all folds), ``n_folds``,
-            ``error``.
+            t-interval), ``vs_baseline`` and ``vs_baseline_ci`` (the mean
+            over folds of the pipeline's balanced accuracy minus the
+            one-number baseline's on the same fold, and its 95% t-interval;
+            None for the baseline itself or without it), ``mae`` and
+            ``mae_ci`` (hardness MAE, None without hardness),
+            ``fit_predict_seconds`` (all folds), ``n_folds``,
+            ``predict_proba_samples`` (whether the pipeline has it, so
+            active sampling can use it), ``error``.
         fold_scores : dict of name -> ndarray of shape (cv,)
             Balanced accuracy per fold.
         predictions : dict of name -> ndarray of shape (n_samples,)
             Out-of-fold predictions.
         confusion : dict of name -> ndarray of shape (n_classes, n_classes)
             Confusion matrix of the out-of-fold predictions.
+        recommended : str or None
+            The pipeline with the highest balanced accuracy among those
+            whose paired interval against the one-number baseline lies above
+            0; None when none does (on these objects the one number does as
+            well as any within the spread of the folds) or without the
+            baseline.
+        recommended_with_samples : str or None
+            The same among pipelines with ``predict_proba_samples`` (the
+            choice for active sampling).
         target, target_names, groups, folds, chance
             The labels, class names, object of each press, the folds'
             test indices, and chance level (``1 / n_classes``).
@@ -391,12 +321,39 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
                            else np.zeros((n_classes, n_classes), dtype=int))
         table.append(dict(pipeline=name, balanced_accuracy=ba, balanced_accuracy_ci=ba_ci, mae=mae,
                           mae_ci=mae_ci, fit_predict_seconds=float(sum(o["time"] for o in rows)),
-                          n_folds=len(rows), error="; ".join(errors) or None))
+                          n_folds=len(rows), predict_proba_samples=hasattr(named[name], "predict_proba_samples"),
+                          error="; ".join(errors) or None))
     if memory is not None:
         memory.cleanup()
+    base = fold_scores.get("peak_change")
+    for row in table:
+        row["vs_baseline"], row["vs_baseline_ci"] = _paired_difference(
+            fold_scores[row["pipeline"]], None if row["pipeline"] == "peak_change" else base)
+    recommended, with_samples = _recommend(table)
     return Bunch(table=table, fold_scores=fold_scores, predictions=predictions, confusion=confusion,
+                 recommended=recommended, recommended_with_samples=with_samples,
                  target=y, target_names=names, groups=groups, folds=[test for _, test in folds],
                  chance=1.0 / n_classes, hardness_unit=getattr(data, "hardness_unit", None))
+
+
+def _paired_difference(scores, base):
+    """Mean and 95% t-interval over folds of ``scores - base`` (same folds); (None, None) without a base."""
+    if base is None:
+        return None, None
+    diff = np.asarray(scores, dtype=float) - np.asarray(base, dtype=float)
+    diff = diff[np.isfinite(diff)]
+    if diff.size == 0:
+        return float("nan"), (float("nan"), float("nan"))
+    return _ci95(diff)
+
+
+def _recommend(table):
+    """The best pipeline above the baseline (paired interval above 0), overall and with predict_proba_samples."""
+    above = [r for r in table if r["vs_baseline_ci"] is not None and r["vs_baseline_ci"][0] > 0]
+    best = max(above, key=lambda r: r["balanced_accuracy"], default=None)
+    sampled = max((r for r in above if r["predict_proba_samples"]), key=lambda r: r["balanced_accuracy"],
+                  default=None)
+    return (None if best is None else best["pipeline"]), (None if sampled is None else sampled["pipeline"])
 
 
 def format_evaluation(result):
@@ -414,21 +371,46 @@ def format_evaluation(result):
         folds, hardness MAE, time, and the margin over the one-number
         baseline.
     """
-    base = next((r["balanced_accuracy"] for r in result.table if r["pipeline"] == "peak_change"), None)
     n_folds = result.table[0]["n_folds"] if result.table else 0
     lines = [f"object-disjoint {n_folds}-fold CV, {len(np.unique(result.groups))} objects, "
              f"{len(result.target)} presses, chance {result.chance:.2f}"]
     width = max([16] + [len(str(r["pipeline"])) for r in result.table])  # long names keep the columns
-    lines.append(f"{'pipeline':<{width}} {'bal. accuracy [95% CI]':<24} {'MAE':>6} {'vs peak':>8} {'time s':>8}")
+    lines.append(f"{'pipeline':<{width}} {'bal. accuracy [95% CI]':<24} {'MAE':>6} {'vs peak [95% CI]':>22} "
+                 f"{'time s':>8}")
     for r in result.table:
         lo, hi = r["balanced_accuracy_ci"]
         mae = "-" if r["mae"] is None else f"{r['mae']:.2f}"
-        delta = "" if base is None or r["pipeline"] == "peak_change" else f"{r['balanced_accuracy'] - base:+.2f}"
+        delta = ""
+        if r.get("vs_baseline") is not None:
+            d_lo, d_hi = r["vs_baseline_ci"]
+            delta = f"{r['vs_baseline']:+.2f} [{d_lo:+.2f}, {d_hi:+.2f}]"
         lines.append(f"{r['pipeline']:<{width}} {r['balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]{'':<7} "
-                     f"{mae:>6} {delta:>8} {r['fit_predict_seconds']:>8.1f}")
+                     f"{mae:>6} {delta:>22} {r['fit_predict_seconds']:>8.1f}")
         if r["error"]:
             lines.append(f"  error: {r['error']}")
+    lines += _recommendation_lines(result)
     return "\n".join(lines)
+
+
+def _recommendation_lines(result):
+    """What the table says to choose (the rule of :func:`evaluate_pipelines`'s ``recommended``)."""
+    rows = [r for r in result.table if r.get("vs_baseline_ci") is not None]
+    if not rows:
+        return []
+    lines = ["vs peak: each fold's balanced accuracy minus the one-number baseline's, mean and 95% t-interval "
+             "over folds."]
+    best, sampled = getattr(result, "recommended", None), getattr(result, "recommended_with_samples", None)
+    if best is None:
+        lines.append("No pipeline is above the one-number baseline beyond the spread of the folds (every "
+                     "interval includes 0 or lies below): on these objects peak_change does as well; more "
+                     "objects narrow the intervals.")
+        return lines
+    lines.append(f"Choose {best}: the highest balanced accuracy among the pipelines above the baseline.")
+    if sampled is not None and sampled != best:
+        lines.append(f"For active sampling (predict_proba_samples): {sampled}.")
+    elif sampled is None:
+        lines.append("No pipeline above the baseline has predict_proba_samples for active sampling.")
+    return lines
 
 
 def plot_confusion_matrices(result, path=None):
