@@ -52,7 +52,8 @@ def main():
     variant = dict(args.param)
 
     lines = [f"everyday {variant or '(preset)'}; evaluate's default pipelines, object-disjoint 5 folds; "
-             "margin = balanced accuracy minus the one-number baseline's, paired by fold [95% t-interval]"]
+             "margin = balanced accuracy minus the one-number baseline's, paired by fold [evaluate's 95% interval, "
+             "corrected for overlapping training sets]"]
     per_seed, recommended = {}, {}
     for seed in args.seeds:
         t0 = time.perf_counter()

@@ -4,6 +4,7 @@ import json
 
 import numpy as np
 import pytest
+from scipy import stats
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.dummy import DummyClassifier
 from sklearn.pipeline import make_pipeline
@@ -74,7 +75,8 @@ class _KnowsTheLabelsWithSamples(_KnowsTheLabels):
 def test_recommendation_names_the_best_pipeline_above_the_baseline(tiny):
     labels = {np.asarray(v).tobytes(): int(c) for v, c in zip(tiny.videos, tiny.target)}
     pipes = {"dummy": DummyClassifier(strategy="most_frequent"), "oracle": _KnowsTheLabels(labels)}
-    result = evaluate_pipelines(tiny, pipes, cv=3, verbose=0)
+    # 4 folds: with 3 folds of 12 objects the corrected interval of even a perfect pipeline holds 0
+    result = evaluate_pipelines(tiny, pipes, cv=4, verbose=0)
     rows = {r["pipeline"]: r for r in result.table}
     base = result.fold_scores["peak_change"]
     for name in ("dummy", "oracle"):  # paired over the same folds
@@ -88,7 +90,7 @@ def test_recommendation_names_the_best_pipeline_above_the_baseline(tiny):
     assert "Choose oracle" in text and "No pipeline above the baseline has predict_proba_samples" in text
     # with predict_proba_samples it is also the choice for active sampling
     pipes["oracle"] = _KnowsTheLabelsWithSamples(labels)
-    result = evaluate_pipelines(tiny, pipes, cv=3, verbose=0)
+    result = evaluate_pipelines(tiny, pipes, cv=4, verbose=0)
     assert result.recommended == result.recommended_with_samples == "oracle"
     assert {r["pipeline"]: r["predict_proba_samples"] for r in result.table} == {
         "peak_change": False, "dummy": False, "oracle": True}
@@ -100,6 +102,23 @@ def test_recommendation_names_the_best_pipeline_above_the_baseline(tiny):
     result = evaluate_pipelines(tiny, {"dummy": DummyClassifier()}, cv=3, baseline=False, verbose=0)
     assert result.table[0]["vs_baseline"] is None and result.recommended is None
     assert "Choose" not in format_evaluation(result) and "vs peak:" not in format_evaluation(result)
+
+
+def test_margin_interval_is_corrected_for_overlapping_training_sets(tiny):
+    # Nadeau and Bengio: var(d) * (1/k + n_test/n_train) instead of var(d) / k; wider than the plain
+    # t-interval over folds, which is too narrow when the training sets overlap
+    labels = {np.asarray(v).tobytes(): int(c) for v, c in zip(tiny.videos, tiny.target)}
+    pipes = {"dummy": DummyClassifier(strategy="stratified", random_state=0), "oracle": _KnowsTheLabels(labels)}
+    result = evaluate_pipelines(tiny, pipes, cv=3, verbose=0)
+    n = len(tiny.target)
+    ratio = np.mean([len(test) / (n - len(test)) for test in result.folds])
+    for row in result.table[1:]:
+        diff = result.fold_scores[row["pipeline"]] - result.fold_scores["peak_change"]
+        t = stats.t.ppf(0.975, len(diff) - 1)
+        half = t * np.sqrt(diff.var(ddof=1) * (1 / len(diff) + ratio))
+        assert row["vs_baseline_ci"] == pytest.approx((diff.mean() - half, diff.mean() + half))
+        plain = t * diff.std(ddof=1) / np.sqrt(len(diff))
+        assert half > plain * 1.5  # 3 folds: sqrt(1 + 3 * 0.5) = 1.58
 
 
 def test_failing_pipeline_is_reported_not_dropped(tiny):
