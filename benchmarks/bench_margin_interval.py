@@ -13,14 +13,15 @@ interval's lower end lies above 0:
   object share an offset, as presses of one real object share its shape).
   Every lower end above 0 is a false recommendation; a one-sided 2.5% is
   what a 95% interval promises.
-- *better*: the second feature carries more of the class (``--effect``): the
-  share of draws on which the better pipeline is recommended (the power).
+- *better*: the second feature carries more of the class (``--effects``,
+  its gain against the first's 0.7): the share of draws on which the better
+  pipeline is recommended (the power) and its mean margin.
 
 Each draw runs ``evaluate_pipelines`` (object-disjoint 5 folds) on a fresh
 dataset with the same shape as the ``everyday`` preset (42 objects, 4 presses
 each, 3 ranks):
 
-    python benchmarks/bench_margin_interval.py [--draws 400] [--n-jobs 2] [--out FILE]
+    python benchmarks/bench_margin_interval.py [--draws 400] [--effects 1.0 1.4] [--n-jobs 2] [--out FILE]
 
 Prints, per scenario, the share of draws whose plain and corrected lower ends
 lie above 0 with a 95% Wilson interval, the time and the peak memory.
@@ -62,13 +63,13 @@ def on_feature(j):
 
 
 def one_draw(seed, gains):
-    """(plain lower end, corrected lower end) of the second pipeline's margin over the first."""
+    """(margin, plain lower end, corrected lower end) of the second pipeline over the first."""
     data = make_objects(np.random.default_rng(seed), gains)
     result = evaluate_pipelines(data, {"peak_change": on_feature(0), "other": on_feature(1)}, cv=CV,
                                 random_state=seed, verbose=0)
     diff = result.fold_scores["other"] - result.fold_scores["peak_change"]
     plain = diff.mean() - stats.t.ppf(0.975, len(diff) - 1) * diff.std(ddof=1) / np.sqrt(len(diff))
-    return plain, result.table[1]["vs_baseline_ci"][0]
+    return diff.mean(), plain, result.table[1]["vs_baseline_ci"][0]
 
 
 def wilson(k, n):
@@ -83,8 +84,8 @@ def wilson(k, n):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--draws", type=int, default=400, help="datasets per scenario")
-    parser.add_argument("--effect", type=float, default=1.0,
-                        help="gain of the better feature in the 'better' scenario (the other's is 0.7)")
+    parser.add_argument("--effects", type=float, nargs="*", default=[1.0, 1.4],
+                        help="gains of the better feature in the 'better' scenarios (the other's is 0.7)")
     parser.add_argument("--n-jobs", type=int, default=2)
     parser.add_argument("--out", default=None, help="also write the output here, after a provenance line")
     args = parser.parse_args()
@@ -92,18 +93,21 @@ def main():
     lines = [f"{N_OBJECTS} objects x {PER_OBJECT} presses, 3 ranks, object-disjoint {CV} folds, "
              f"{args.draws} draws per scenario; share of draws whose margin's lower end lies above 0 "
              "[95% Wilson interval]"]
-    scenarios = {"null (equal pipelines)": (0.7, 0.7), f"better (gain {args.effect:g} vs 0.7)": (0.7, args.effect)}
+    scenarios = {"null (equal pipelines)": (0.7, 0.7),
+                 **{f"better (gain {g:g} vs 0.7)": (0.7, g) for g in args.effects}}
     t0 = time.perf_counter()
     for offset, (name, gains) in enumerate(scenarios.items()):
         t1 = time.perf_counter()
-        lows = np.array(Parallel(n_jobs=args.n_jobs)(
+        out = np.array(Parallel(n_jobs=args.n_jobs)(
             delayed(one_draw)(1_000_000 * offset + seed, gains) for seed in range(args.draws)))
+        margin, lows = out[:, 0], out[:, 1:]
         cells = []
         for label, column in (("plain t-interval", 0), ("corrected (Nadeau-Bengio)", 1)):
             k = int(np.sum(lows[:, column] > 0))
             lo, hi = wilson(k, args.draws)
             cells.append(f"{label} {k / args.draws:.3f} [{lo:.3f}, {hi:.3f}]")
-        lines.append(f"{name}: " + "; ".join(cells) + f" ({time.perf_counter() - t1:.0f} s)")
+        lines.append(f"{name}: mean margin {margin.mean():+.3f}; " + "; ".join(cells)
+                     + f" ({time.perf_counter() - t1:.0f} s)")
     lines.append(f"a 95% interval's lower end lies above 0 on 0.025 of null draws; total "
                  f"{time.perf_counter() - t0:.0f} s, peak RSS {peak_rss_mb():.0f} MB (main process)")
     text = "\n".join(lines)
