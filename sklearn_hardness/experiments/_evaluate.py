@@ -102,13 +102,27 @@ def _load_dataset(dataset, random_state):
     return load_press_videos(path)
 
 
-def _ci95(values):
+def _ci95(values, test_train_ratio=None):
+    """Mean over folds and its 95% t-interval, non-finite folds left out.
+
+    With ``test_train_ratio`` (``n_test / n_train`` of the folds), the
+    variance of the mean is corrected for the folds' overlapping training
+    sets, as Nadeau and Bengio (2003) propose and scikit-learn's example
+    "Statistical comparison of models using grid search" does:
+    ``var(d, ddof=1) * (1 / k + n_test / n_train)`` instead of
+    ``var(d, ddof=1) / k`` over ``k`` folds, with ``k - 1`` degrees of
+    freedom (the plain interval is too narrow, Dietterich 1998).
+    """
     values = np.asarray([v for v in values if v is not None and np.isfinite(v)], dtype=float)
     if len(values) < 2:
         m = float(values.mean()) if len(values) else float("nan")
         return m, (m, m)
     m = float(values.mean())
-    half = float(stats.t.ppf(0.975, len(values) - 1) * values.std(ddof=1) / np.sqrt(len(values)))
+    t = stats.t.ppf(0.975, len(values) - 1)
+    if test_train_ratio is None:
+        half = float(t * values.std(ddof=1) / np.sqrt(len(values)))
+    else:
+        half = float(t * np.sqrt(values.var(ddof=1) * (1.0 / len(values) + test_train_ratio)))
     return m, (m - half, m + half)
 
 
@@ -346,28 +360,13 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
 
 
 def _paired_difference(scores, base, test_train_ratio):
-    """Mean over folds of ``scores - base`` (same folds) and its corrected 95% t-interval.
+    """Mean over folds of ``scores - base`` (same folds) and its corrected 95% t-interval (:func:`_ci95`).
 
-    The folds' training sets overlap, so their differences are correlated and
-    the plain t-interval over folds is too narrow (Dietterich 1998). The
-    variance of the mean is corrected as Nadeau and Bengio (2003) propose and
-    scikit-learn's example "Statistical comparison of models using grid
-    search" does: ``var(d, ddof=1) * (1 / k + n_test / n_train)`` instead of
-    ``var(d, ddof=1) / k`` over ``k`` folds, with ``k - 1`` degrees of
-    freedom. (None, None) without a base.
+    (None, None) without a base.
     """
     if base is None:
         return None, None
-    diff = np.asarray(scores, dtype=float) - np.asarray(base, dtype=float)
-    diff = diff[np.isfinite(diff)]
-    if diff.size == 0:
-        return float("nan"), (float("nan"), float("nan"))
-    m = float(diff.mean())
-    if diff.size < 2:
-        return m, (m, m)
-    se = np.sqrt(diff.var(ddof=1) * (1.0 / diff.size + test_train_ratio))
-    half = float(stats.t.ppf(0.975, diff.size - 1) * se)
-    return m, (m - half, m + half)
+    return _ci95(np.asarray(scores, dtype=float) - np.asarray(base, dtype=float), test_train_ratio)
 
 
 def _recommend(table):
