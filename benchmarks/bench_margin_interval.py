@@ -17,14 +17,26 @@ interval's lower end lies above 0:
   its gain against the first's 0.7): the share of draws on which the better
   pipeline is recommended (the power) and its mean margin.
 
-Each draw runs ``evaluate_pipelines`` (object-disjoint 5 folds) on a fresh
+Each draw runs ``evaluate_pipelines`` (object-disjoint 5 folds, repeated
+``--n-repeats`` times with other assignments of objects to folds) on a fresh
 dataset with the same shape as the ``everyday`` preset (42 objects, 4 presses
 each, 3 ranks):
 
-    python benchmarks/bench_margin_interval.py [--draws 400] [--effects 1.0 1.4] [--n-jobs 2] [--out FILE]
+    python benchmarks/bench_margin_interval.py [--draws 400] [--effects 1.0 1.4] [--n-repeats 1]
+        [--n-jobs 2] [--out FILE]
 
-Prints, per scenario, the share of draws whose plain and corrected lower ends
-lie above 0 with a 95% Wilson interval, the time and the peak memory.
+With ``--n-repeats R`` the intervals run over the ``R x 5`` fold differences:
+the plain one treats them as independent, which they are not (the repetitions
+reuse the objects); the corrected one divides the variance by ``R x 5`` only
+in its first term, with ``R x 5 - 1`` degrees of freedom as Bouckaert and
+Frank (2004) use it, or with the ``5 - 1`` of one repetition, as
+``evaluate_pipelines`` does. A last column runs ``evaluate_pipelines`` again on
+the same objects with another fold seed and counts how often its
+recommendation (lower end above 0) is the same.
+
+Prints, per scenario, the share of draws whose lower ends lie above 0 with a
+95% Wilson interval, the share of draws whose recommendation does not depend
+on the fold seed, the time and the peak memory.
 """
 
 import argparse
@@ -62,14 +74,22 @@ def on_feature(j):
                          LogisticRegression(class_weight="balanced"))
 
 
-def one_draw(seed, gains):
-    """(margin, plain lower end, corrected lower end) of the second pipeline over the first."""
+def one_draw(seed, gains, n_repeats=1):
+    """Margin of the second pipeline over the first, lower ends (plain, corrected with R x 5 - 1 df,
+    evaluate's), and whether evaluate's decision is the same with another fold seed."""
     data = make_objects(np.random.default_rng(seed), gains)
-    result = evaluate_pipelines(data, {"peak_change": on_feature(0), "other": on_feature(1)}, cv=CV,
-                                random_state=seed, verbose=0)
+    pipes = {"peak_change": on_feature(0), "other": on_feature(1)}
+    result = evaluate_pipelines(data, pipes, cv=CV, n_repeats=n_repeats, random_state=seed, verbose=0)
     diff = result.fold_scores["other"] - result.fold_scores["peak_change"]
-    plain = diff.mean() - stats.t.ppf(0.975, len(diff) - 1) * diff.std(ddof=1) / np.sqrt(len(diff))
-    return diff.mean(), plain, result.table[1]["vs_baseline_ci"][0]
+    t = stats.t.ppf(0.975, len(diff) - 1)
+    plain = diff.mean() - t * diff.std(ddof=1) / np.sqrt(len(diff))
+    n = len(result.target)
+    ratio = np.mean([len(test) / (n - len(test)) for test in result.folds])
+    all_df = diff.mean() - t * np.sqrt(diff.var(ddof=1) * (1 / len(diff) + ratio))
+    low = result.table[1]["vs_baseline_ci"][0]
+    other = evaluate_pipelines(data, pipes, cv=CV, n_repeats=n_repeats, random_state=seed + 500_000, verbose=0)
+    same = (low > 0) == (other.table[1]["vs_baseline_ci"][0] > 0)
+    return diff.mean(), plain, all_df, low, same
 
 
 def wilson(k, n):
@@ -86,11 +106,14 @@ def main():
     parser.add_argument("--draws", type=int, default=400, help="datasets per scenario")
     parser.add_argument("--effects", type=float, nargs="*", default=[1.0, 1.4],
                         help="gains of the better feature in the 'better' scenarios (the other's is 0.7)")
+    parser.add_argument("--n-repeats", type=int, default=1,
+                        help="repetitions of the object-disjoint folds (evaluate_pipelines' n_repeats)")
     parser.add_argument("--n-jobs", type=int, default=2)
     parser.add_argument("--out", default=None, help="also write the output here, after a provenance line")
     args = parser.parse_args()
 
-    lines = [f"{N_OBJECTS} objects x {PER_OBJECT} presses, 3 ranks, object-disjoint {CV} folds, "
+    repeats = f" x {args.n_repeats} repetitions" if args.n_repeats > 1 else ""
+    lines = [f"{N_OBJECTS} objects x {PER_OBJECT} presses, 3 ranks, object-disjoint {CV} folds{repeats}, "
              f"{args.draws} draws per scenario; share of draws whose margin's lower end lies above 0 "
              "[95% Wilson interval]"]
     scenarios = {"null (equal pipelines)": (0.7, 0.7),
@@ -99,13 +122,21 @@ def main():
     for offset, (name, gains) in enumerate(scenarios.items()):
         t1 = time.perf_counter()
         out = np.array(Parallel(n_jobs=args.n_jobs)(
-            delayed(one_draw)(1_000_000 * offset + seed, gains) for seed in range(args.draws)))
-        margin, lows = out[:, 0], out[:, 1:]
+            delayed(one_draw)(1_000_000 * offset + seed, gains, args.n_repeats) for seed in range(args.draws)))
+        margin, lows, same = out[:, 0], out[:, 1:4], out[:, 4]
+        columns = [("plain t-interval", 0), ("corrected (Nadeau-Bengio)", 2)]
+        if args.n_repeats > 1:
+            columns = [("plain t-interval", 0),
+                       (f"corrected, {args.n_repeats * CV - 1} df (Bouckaert-Frank)", 1),
+                       (f"corrected, {CV - 1} df (evaluate)", 2)]
         cells = []
-        for label, column in (("plain t-interval", 0), ("corrected (Nadeau-Bengio)", 1)):
+        for label, column in columns:
             k = int(np.sum(lows[:, column] > 0))
             lo, hi = wilson(k, args.draws)
             cells.append(f"{label} {k / args.draws:.3f} [{lo:.3f}, {hi:.3f}]")
+        k = int(same.sum())
+        lo, hi = wilson(k, args.draws)
+        cells.append(f"evaluate's decision unchanged by another fold seed {k / args.draws:.3f} [{lo:.3f}, {hi:.3f}]")
         lines.append(f"{name}: mean margin {margin.mean():+.3f}; " + "; ".join(cells)
                      + f" ({time.perf_counter() - t1:.0f} s)")
     lines.append(f"a 95% interval's lower end lies above 0 on 0.025 of null draws; total "

@@ -24,7 +24,7 @@ from sklearn.base import clone
 from sklearn.metrics import ConfusionMatrixDisplay, balanced_accuracy_score, confusion_matrix
 from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import Pipeline
-from sklearn.utils import Bunch, _safe_indexing
+from sklearn.utils import Bunch, _safe_indexing, check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
 from .._experiment_names import DEFAULT_PIPELINES, PIPELINE_NAMES
@@ -102,23 +102,25 @@ def _load_dataset(dataset, random_state):
     return load_press_videos(path)
 
 
-def _ci95(values, test_train_ratio=None):
+def _ci95(values, test_train_ratio=None, df=None):
     """Mean over folds and its 95% t-interval, non-finite folds left out.
 
     With ``test_train_ratio`` (``n_test / n_train`` of the folds), the
     variance of the mean is corrected for the folds' overlapping training
     sets, as Nadeau and Bengio (2003) propose and scikit-learn's example
     "Statistical comparison of models using grid search" does:
-    ``var(d, ddof=1) * (1 / k + n_test / n_train)`` instead of
-    ``var(d, ddof=1) / k`` over ``k`` folds, with ``k - 1`` degrees of
-    freedom (the plain interval is too narrow, Dietterich 1998).
+    ``var(d, ddof=1) * (1 / n + n_test / n_train)`` instead of
+    ``var(d, ddof=1) / n`` over ``n`` fold scores (the plain interval is too
+    narrow, Dietterich 1998). The t quantile has ``n - 1`` degrees of
+    freedom, or ``df`` when that is fewer (repeated folds: the folds of one
+    repetition, see :func:`evaluate_pipelines`).
     """
     values = np.asarray([v for v in values if v is not None and np.isfinite(v)], dtype=float)
     if len(values) < 2:
         m = float(values.mean()) if len(values) else float("nan")
         return m, (m, m)
     m = float(values.mean())
-    t = stats.t.ppf(0.975, len(values) - 1)
+    t = stats.t.ppf(0.975, len(values) - 1 if df is None else min(df, len(values) - 1))
     if test_train_ratio is None:
         half = float(t * values.std(ddof=1) / np.sqrt(len(values)))
     else:
@@ -153,6 +155,7 @@ def _indexed(j, func, *args):
         "dataset": "no_validation",
         "pipelines": [dict, list, tuple, None],
         "cv": [Interval(numbers.Integral, 2, None, closed="left")],
+        "n_repeats": [Interval(numbers.Integral, 1, None, closed="left")],
         "baseline": ["boolean"],
         "error_score": [StrOptions({"raise"}), numbers.Real],
         "n_jobs": [numbers.Integral, None],
@@ -161,7 +164,7 @@ def _indexed(j, func, *args):
     },
     prefer_skip_nested_validation=True,
 )
-def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_score="raise",
+def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=True, error_score="raise",
                        n_jobs=None, random_state=0, verbose=1):
     """Object-disjoint cross-validation of press-video pipelines.
 
@@ -174,12 +177,15 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
     choose for these objects: the best one whose margin's 95% interval lies
     above 0, or None when the one number does as well within the spread of
     the folds (on real recordings of unseen objects the paper's nets did not
-    beat it, issue 20: measure before choosing). The margin's interval is
-    corrected for the folds' overlapping training sets (Nadeau and Bengio's
-    corrected t-interval, as in scikit-learn's example "Statistical
-    comparison of models using grid search"): the plain t-interval over
-    folds is too narrow, and recommended pipelines that did not carry over
-    to newly drawn objects (``benchmarks/bench_recommendation.py``).
+    beat it, issue 20: measure before choosing). Every interval is corrected
+    for the folds' overlapping training sets (Nadeau and Bengio's corrected
+    t-interval, as in scikit-learn's example "Statistical comparison of
+    models using grid search"): the plain t-interval over folds is too
+    narrow, and recommended pipelines that did not carry over to newly
+    drawn objects (``benchmarks/bench_recommendation.py``). The correction
+    costs power; ``n_repeats`` buys it back at ``n_repeats`` times the
+    compute, by repeating the object-disjoint split with other assignments
+    of objects to folds.
 
     Parameters
     ----------
@@ -206,6 +212,18 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
         per fold and share it (a temporary ``Pipeline(memory=...)``).
     cv : int, default=5
         Number of folds. Every class needs at least ``cv`` objects.
+    n_repeats : int, default=1
+        Times the object-disjoint ``cv``-fold split is repeated, each time
+        with another assignment of objects to folds (a grouped
+        :class:`~sklearn.model_selection.RepeatedStratifiedKFold`). The
+        intervals then run over ``n_repeats * cv`` fold scores with
+        ``n_repeats * cv - 1`` degrees of freedom, and the corrected
+        variance ``var * (1 / (n_repeats * cv) + n_test / n_train)`` keeps
+        them honest although every repetition reuses the same objects. At
+        5 folds, 5 repetitions make the margin's interval about 0.6 times
+        as wide as one (``benchmarks/bench_margin_interval.py
+        --n-repeats``), so smaller margins are found at the same error
+        rate.
     baseline : bool, default=True
         Add the one-number baseline as ``"peak_change"``.
     error_score : "raise" or float, default="raise"
@@ -232,20 +250,23 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
             ``balanced_accuracy_ci`` (mean over folds and its 95%
             t-interval), ``vs_baseline`` and ``vs_baseline_ci`` (the mean
             over folds of the pipeline's balanced accuracy minus the
-            one-number baseline's on the same fold, and its 95% t-interval
-            with the variance corrected for overlapping training sets,
-            ``var * (1 / n_folds + n_test / n_train)``; None for the baseline
-            itself or without it), ``mae`` and
+            one-number baseline's on the same fold, and its 95% t-interval;
+            None for the baseline itself or without it), ``mae`` and
             ``mae_ci`` (hardness MAE, None without hardness),
-            ``fit_predict_seconds`` (all folds), ``n_folds``,
-            ``predict_proba_samples`` (whether the pipeline has it, so
-            active sampling can use it), ``error``.
-        fold_scores : dict of name -> ndarray of shape (cv,)
-            Balanced accuracy per fold.
+            ``fit_predict_seconds`` (all fits), ``n_folds`` (``cv``),
+            ``n_repeats``, ``predict_proba_samples`` (whether the pipeline
+            has it, so active sampling can use it), ``error``. Every
+            interval is over the ``n_repeats * cv`` fold scores, its variance
+            corrected for overlapping training sets:
+            ``var * (1 / (n_repeats * cv) + n_test / n_train)``.
+        fold_scores : dict of name -> ndarray of shape (n_repeats * cv,)
+            Balanced accuracy per fold, repetition after repetition.
         predictions : dict of name -> ndarray of shape (n_samples,)
-            Out-of-fold predictions.
+            Out-of-fold predictions of the first repetition (every press
+            once).
         confusion : dict of name -> ndarray of shape (n_classes, n_classes)
-            Confusion matrix of the out-of-fold predictions.
+            Confusion matrix of the out-of-fold predictions of all
+            repetitions (every press counted ``n_repeats`` times).
         recommended : str or None
             The pipeline with the highest balanced accuracy among those
             whose paired interval against the one-number baseline lies above
@@ -255,9 +276,11 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
         recommended_with_samples : str or None
             The same among pipelines with ``predict_proba_samples`` (the
             choice for active sampling).
-        target, target_names, groups, folds, chance
-            The labels, class names, object of each press, the folds'
-            test indices, and chance level (``1 / n_classes``).
+        target, target_names, groups, folds, n_repeats, chance
+            The labels, class names, object of each press, the folds' test
+            indices (``n_repeats * cv`` arrays, repetition after
+            repetition), the number of repetitions, and chance level
+            (``1 / n_classes``).
 
     Raises
     ------
@@ -310,63 +333,70 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, baseline=True, error_sc
     if short:
         raise ValueError(f"classes {short} have fewer than cv={cv} objects "
                          f"({dict(zip(names.tolist(), objects_per_class))}); lower cv.")
-    splitter = StratifiedGroupKFold(n_splits=cv, shuffle=True, random_state=random_state)
-    folds = list(splitter.split(np.zeros(len(y)), y, groups))
+    # one stream for all repetitions, as scikit-learn's _RepeatedSplits: the first repetition's
+    # folds are those of StratifiedGroupKFold(random_state=random_state) alone
+    rng = check_random_state(random_state)
+    folds = [fold for _ in range(n_repeats)
+             for fold in StratifiedGroupKFold(n_splits=cv, shuffle=True, random_state=rng).split(
+                 np.zeros(len(y)), y, groups)]
     hardness = getattr(data, "hardness", None)
     jobs = [(name, est, k) for name, est in named.items() for k in range(len(folds))]
     progress = ProgressLog(len(jobs), desc="evaluate", verbose=verbose, unit="fits")
     if verbose:
-        progress.write(f"{len(named)} pipeline(s) ({', '.join(named)}) x {len(folds)} object-disjoint "
-                       f"folds on {len(y)} presses of {len(np.unique(groups))} objects")
+        repeats = f" x {n_repeats} repetitions" if n_repeats > 1 else ""
+        progress.write(f"{len(named)} pipeline(s) ({', '.join(named)}) x {cv} object-disjoint "
+                       f"folds{repeats} on {len(y)} presses of {len(np.unique(groups))} objects")
     outs = [None] * len(jobs)
     calls = (delayed(_indexed)(j, _fit_fold, name, est, X, y, folds[k][0], folds[k][1], hardness,
                                error_score) for j, (name, est, k) in enumerate(jobs))
     for j, out in Parallel(n_jobs=n_jobs, return_as="generator_unordered")(calls):
         outs[j] = out
         progress.update(1)
+    test_train_ratio = float(np.mean([len(test) / len(train) for train, test in folds]))
     table, fold_scores, predictions, confusion = [], {}, {}, {}
     for name in named:
         rows = [o for (n, _, _), o in zip(jobs, outs) if n == name]
         errors = sorted({o["error"] for o in rows if o["error"]})
-        pred = np.full(len(y), -1)
-        for (train, test), o in zip(folds, rows):
+        pred = np.full((n_repeats, len(y)), -1)
+        for k, ((train, test), o) in enumerate(zip(folds, rows)):
             if o["pred"] is not None:
-                pred[test] = o["pred"]
+                pred[k // cv, test] = o["pred"]
         scores = np.array([o.get("balanced_accuracy", error_score) for o in rows], dtype=float)
-        ba, ba_ci = _ci95(scores)
+        ba, ba_ci = _ci95(scores, test_train_ratio, cv - 1)
         maes = [o.get("mae") for o in rows]
-        mae, mae_ci = (None, None) if hardness is None else _ci95(maes)
-        fold_scores[name], predictions[name] = scores, pred
+        mae, mae_ci = (None, None) if hardness is None else _ci95(maes, test_train_ratio, cv - 1)
+        fold_scores[name], predictions[name] = scores, pred[0]
         ok = pred >= 0
-        confusion[name] = (confusion_matrix(y[ok], pred[ok], labels=np.arange(n_classes)) if ok.any()
+        confusion[name] = (confusion_matrix(np.broadcast_to(y, pred.shape)[ok], pred[ok],
+                                            labels=np.arange(n_classes)) if ok.any()
                            else np.zeros((n_classes, n_classes), dtype=int))
         table.append(dict(pipeline=name, balanced_accuracy=ba, balanced_accuracy_ci=ba_ci, mae=mae,
                           mae_ci=mae_ci, fit_predict_seconds=float(sum(o["time"] for o in rows)),
-                          n_folds=len(rows), predict_proba_samples=hasattr(named[name], "predict_proba_samples"),
+                          n_folds=cv, n_repeats=n_repeats,
+                          predict_proba_samples=hasattr(named[name], "predict_proba_samples"),
                           error="; ".join(errors) or None))
     if memory is not None:
         memory.cleanup()
     base = fold_scores.get("peak_change")
-    test_train_ratio = float(np.mean([len(test) / len(train) for train, test in folds]))
     for row in table:
         row["vs_baseline"], row["vs_baseline_ci"] = _paired_difference(
             fold_scores[row["pipeline"]], None if row["pipeline"] == "peak_change" else base,
-            test_train_ratio)
+            test_train_ratio, cv - 1)
     recommended, with_samples = _recommend(table)
     return Bunch(table=table, fold_scores=fold_scores, predictions=predictions, confusion=confusion,
                  recommended=recommended, recommended_with_samples=with_samples,
                  target=y, target_names=names, groups=groups, folds=[test for _, test in folds],
-                 chance=1.0 / n_classes, hardness_unit=getattr(data, "hardness_unit", None))
+                 n_repeats=n_repeats, chance=1.0 / n_classes, hardness_unit=getattr(data, "hardness_unit", None))
 
 
-def _paired_difference(scores, base, test_train_ratio):
+def _paired_difference(scores, base, test_train_ratio, df=None):
     """Mean over folds of ``scores - base`` (same folds) and its corrected 95% t-interval (:func:`_ci95`).
 
     (None, None) without a base.
     """
     if base is None:
         return None, None
-    return _ci95(np.asarray(scores, dtype=float) - np.asarray(base, dtype=float), test_train_ratio)
+    return _ci95(np.asarray(scores, dtype=float) - np.asarray(base, dtype=float), test_train_ratio, df)
 
 
 def _recommend(table):
@@ -394,8 +424,11 @@ def format_evaluation(result):
         baseline.
     """
     n_folds = result.table[0]["n_folds"] if result.table else 0
-    lines = [f"object-disjoint {n_folds}-fold CV, {len(np.unique(result.groups))} objects, "
-             f"{len(result.target)} presses, chance {result.chance:.2f}"]
+    n_repeats = getattr(result, "n_repeats", 1)
+    repeats = f" x {n_repeats} repetitions" if n_repeats > 1 else ""
+    lines = [f"object-disjoint {n_folds}-fold CV{repeats}, {len(np.unique(result.groups))} objects, "
+             f"{len(result.target)} presses, chance {result.chance:.2f}; 95% t-intervals corrected for the "
+             "folds' overlapping training sets (Nadeau-Bengio)"]
     width = max([16] + [len(str(r["pipeline"])) for r in result.table])  # long names keep the columns
     lines.append(f"{'pipeline':<{width}} {'bal. accuracy [95% CI]':<24} {'MAE':>6} {'vs peak [95% CI]':>22} "
                  f"{'time s':>8}")
@@ -420,7 +453,7 @@ def _recommendation_lines(result):
     if not rows:
         return []
     lines = ["vs peak: each fold's balanced accuracy minus the one-number baseline's, mean over folds and "
-             "95% t-interval corrected for the folds' overlapping training sets (Nadeau-Bengio)."]
+             "its corrected 95% t-interval."]
     best, sampled = getattr(result, "recommended", None), getattr(result, "recommended_with_samples", None)
     if best is None:
         lines.append("No pipeline is above the one-number baseline beyond the spread of the folds (every "
