@@ -38,9 +38,10 @@ def _add_evaluate(sub):
     p.add_argument("--cv", type=_int_type(2, what="an integer >= 2"), default=5,
                    help="number of object-disjoint folds (default 5)")
     p.add_argument("--n-repeats", type=_int_type(1, what="an integer >= 1"), default=1,
-                   help="repeat the folds with other assignments of objects to folds (default 1); the "
-                   "intervals run over all repetitions' folds, corrected for their overlap, and narrow "
-                   "(about 0.6x at 5 folds x 5 repetitions) at that many times the compute")
+                   help="repeat the folds with other assignments of objects to folds, at that many times "
+                   "the compute (default 1): the figures depend less on one assignment; the intervals "
+                   "run over all repetitions' folds, corrected for their overlap, with the degrees of "
+                   "freedom of one repetition (more objects narrow them, repetitions little)")
     p.add_argument("--out", default="hardness_evaluation",
                    help="folder for evaluation.json and confusion_matrices.png (default ./hardness_evaluation)")
     p.add_argument("--seed", type=_nonnegative_int, default=0, help="seed of the folds and of a preset (default 0)")

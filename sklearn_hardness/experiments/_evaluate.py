@@ -182,10 +182,10 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     t-interval, as in scikit-learn's example "Statistical comparison of
     models using grid search"): the plain t-interval over folds is too
     narrow, and recommended pipelines that did not carry over to newly
-    drawn objects (``benchmarks/bench_recommendation.py``). The correction
-    costs power; ``n_repeats`` buys it back at ``n_repeats`` times the
-    compute, by repeating the object-disjoint split with other assignments
-    of objects to folds.
+    drawn objects (``benchmarks/bench_recommendation.py``). ``n_repeats``
+    repeats the object-disjoint split with other assignments of objects to
+    folds, so that the figures and the recommendation depend less on one
+    assignment; it does not make up for few objects.
 
     Parameters
     ----------
@@ -215,15 +215,19 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     n_repeats : int, default=1
         Times the object-disjoint ``cv``-fold split is repeated, each time
         with another assignment of objects to folds (a grouped
-        :class:`~sklearn.model_selection.RepeatedStratifiedKFold`). The
-        intervals then run over ``n_repeats * cv`` fold scores with
-        ``n_repeats * cv - 1`` degrees of freedom, and the corrected
-        variance ``var * (1 / (n_repeats * cv) + n_test / n_train)`` keeps
-        them honest although every repetition reuses the same objects. At
-        5 folds, 5 repetitions make the margin's interval about 0.6 times
-        as wide as one (``benchmarks/bench_margin_interval.py
-        --n-repeats``), so smaller margins are found at the same error
-        rate.
+        :class:`~sklearn.model_selection.RepeatedStratifiedKFold`), at
+        ``n_repeats`` times the compute. The means run over the
+        ``n_repeats * cv`` fold scores, and so depend less on how the
+        objects fell into folds. The intervals use the corrected variance
+        ``var * (1 / (n_repeats * cv) + n_test / n_train)`` over them, but
+        keep the ``cv - 1`` degrees of freedom of one repetition: every
+        repetition reuses the same objects, and with ``n_repeats * cv - 1``
+        degrees of freedom (Bouckaert and Frank, 2004) the margin's lower
+        end lay above 0 between equal pipelines more often than a 95%
+        interval promises (``benchmarks/bench_margin_interval.py
+        --n-repeats 5``; figures in the simulator page of the docs).
+        Repetitions do not narrow the intervals much: what narrows them is
+        more objects.
     baseline : bool, default=True
         Add the one-number baseline as ``"peak_change"``.
     error_score : "raise" or float, default="raise"
