@@ -185,6 +185,33 @@ def test_failing_pipeline_is_reported_not_dropped(tiny):
         evaluate_pipelines(tiny, {"bad": _Fails()}, cv=3)
 
 
+class _KnowsTheLabelsOnOneFold(_KnowsTheLabels):
+    """The oracle, but its fit fails whenever a given press is among the training presses."""
+
+    def __init__(self, labels=None, fails_with=None):
+        super().__init__(labels)
+        self.fails_with = fails_with
+
+    def fit(self, X, y):
+        if any(np.asarray(v).tobytes() == self.fails_with for v in X):
+            raise RuntimeError("the press is in training")
+        return super().fit(X, y)
+
+
+def test_one_fold_does_not_make_a_recommendation(tiny):
+    # the oracle fits on the one fold that tests the first press and fails on the others: one fold
+    # difference is no evidence, so no interval and no recommendation (before: the point as interval)
+    labels = {np.asarray(v).tobytes(): int(c) for v, c in zip(tiny.videos, tiny.target)}
+    oracle = _KnowsTheLabelsOnOneFold(labels, np.asarray(tiny.videos[0]).tobytes())
+    with pytest.warns(RuntimeWarning, match="the press is in training"):
+        result = evaluate_pipelines(tiny, {"oracle": oracle}, cv=4, error_score=np.nan, verbose=0)
+    row = result.table[1]
+    assert np.isfinite(result.fold_scores["oracle"]).sum() == 1 and row["vs_baseline"] > 0
+    assert np.isnan(row["vs_baseline_ci"]).all() and np.isnan(row["balanced_accuracy_ci"]).all()
+    assert result.recommended is None
+    assert "No pipeline is above the one-number baseline" in format_evaluation(result)
+
+
 def test_bad_input(tiny):
     with pytest.raises(ValueError, match="fewer than cv=5 objects"):
         evaluate_pipelines(tiny, [], cv=5)

@@ -69,9 +69,9 @@ def _run_evaluate(args):
         raise _UsageError(f"dataset {args.dataset!r} is neither a simulator preset ({', '.join(_SIM_PRESETS)}) "
                           "nor an existing manifest (a .csv file, or a folder holding manifest.csv)")
     if not args.quiet:
+        repeats = f" x {args.n_repeats} repetitions" if args.n_repeats > 1 else ""
         print(f"evaluating {', '.join(args.pipelines) or 'the baseline'} on {args.dataset} "
-              f"({args.cv} object-disjoint folds{f' x {args.n_repeats} repetitions' if args.n_repeats > 1 else ''}) ...",
-              file=sys.stderr, flush=True)
+              f"({args.cv} object-disjoint folds{repeats}) ...", file=sys.stderr, flush=True)
     with _user_errors():
         result = evaluate_pipelines(args.dataset, args.pipelines, cv=args.cv, n_repeats=args.n_repeats,
                                     error_score=np.nan,

@@ -113,12 +113,14 @@ def _ci95(values, test_train_ratio=None, df=None):
     ``var(d, ddof=1) / n`` over ``n`` fold scores (the plain interval is too
     narrow, Dietterich 1998). The t quantile has ``n - 1`` degrees of
     freedom, or ``df`` when that is fewer (repeated folds: the folds of one
-    repetition, see :func:`evaluate_pipelines`).
+    repetition, see :func:`evaluate_pipelines`). Fewer than two finite
+    values give no interval: ``(nan, nan)``, so that one fold cannot carry
+    a recommendation.
     """
     values = np.asarray([v for v in values if v is not None and np.isfinite(v)], dtype=float)
     if len(values) < 2:
         m = float(values.mean()) if len(values) else float("nan")
-        return m, (m, m)
+        return m, (float("nan"), float("nan"))
     m = float(values.mean())
     t = stats.t.ppf(0.975, len(values) - 1 if df is None else min(df, len(values) - 1))
     if test_train_ratio is None:
