@@ -102,12 +102,12 @@ def _load_dataset(dataset, random_state):
     return load_press_videos(path)
 
 
-def _ci95(values, test_train_ratio=None, df=None):
-    """Mean over folds and its 95% t-interval, non-finite folds left out.
+def _ci95(values, test_train_ratio, df):
+    """Mean over folds and its corrected 95% t-interval, non-finite folds left out.
 
-    With ``test_train_ratio`` (``n_test / n_train`` of the folds), the
-    variance of the mean is corrected for the folds' overlapping training
-    sets, as Nadeau and Bengio (2003) propose and scikit-learn's example
+    The variance of the mean is corrected for the folds' overlapping
+    training sets (``test_train_ratio``: ``n_test / n_train`` of the folds),
+    as Nadeau and Bengio (2003) propose and scikit-learn's example
     "Statistical comparison of models using grid search" does:
     ``var(d, ddof=1) * (1 / n + n_test / n_train)`` instead of
     ``var(d, ddof=1) / n`` over ``n`` fold scores (the plain interval is too
@@ -122,11 +122,8 @@ def _ci95(values, test_train_ratio=None, df=None):
         m = float(values.mean()) if len(values) else float("nan")
         return m, (float("nan"), float("nan"))
     m = float(values.mean())
-    t = stats.t.ppf(0.975, len(values) - 1 if df is None else min(df, len(values) - 1))
-    if test_train_ratio is None:
-        half = float(t * values.std(ddof=1) / np.sqrt(len(values)))
-    else:
-        half = float(t * np.sqrt(values.var(ddof=1) * (1.0 / len(values) + test_train_ratio)))
+    t = stats.t.ppf(0.975, min(df, len(values) - 1))
+    half = float(t * np.sqrt(values.var(ddof=1) * (1.0 / len(values) + test_train_ratio)))
     return m, (m - half, m + half)
 
 
@@ -395,7 +392,7 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
                  n_repeats=n_repeats, chance=1.0 / n_classes, hardness_unit=getattr(data, "hardness_unit", None))
 
 
-def _paired_difference(scores, base, test_train_ratio, df=None):
+def _paired_difference(scores, base, test_train_ratio, df):
     """Mean over folds of ``scores - base`` (same folds) and its corrected 95% t-interval (:func:`_ci95`).
 
     (None, None) without a base.
