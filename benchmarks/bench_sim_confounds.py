@@ -16,7 +16,12 @@ the preset:
 - ``kinds_shared``: ``kinds_by_rank=False``: every rank draws from all kinds;
 - ``kinds_shared_even_texture``: that, and one texture depth for every rank;
 - ``kinds_shared_conforming``: kinds shared, and a compliant object's imprint
-  smoothed with its share of the deformation (``conformity=0.1``).
+  smoothed with its share of the deformation (``conformity=0.1``);
+- ``kinds_shared_calibrated``: kinds shared, with press force, press speed,
+  conformity and the soft rank's compliance fitted to the contact statistics
+  of the real held-out presses (``bench_sim_vs_real_stats.py``, seeds 0-2):
+  ``force_range=(0.8, 4.8)``, speeds x 0.6, ``conformity=0.05``,
+  ``soft_compliance_range=(0.4, 1.6)``.
 
     python benchmarks/bench_sim_confounds.py [--variants ...] [--seed 0] [--n-jobs 2]
         [--out docs/_output/sim_confounds.txt]
@@ -37,12 +42,24 @@ from _memory import peak_rss_mb
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.experiments import evaluate_pipelines, provenance_header
 
+#: Kinds shared, calibrated to the per-rank peak change, changed area and loading frames of the real
+#: held-out presses (real_presses_stats.md): lighter, slower presses, less conformity, firmer soft objects.
+CALIBRATED = {
+    "kinds_by_rank": False,
+    "conformity": 0.05,
+    "force_range": (0.8, 4.8),
+    "speed_range": (3.0, 12.0),
+    "hand_speed_range": (2.4, 9.6),
+    "soft_compliance_range": (0.4, 1.6),
+}
+
 VARIANTS = {
     "preset": ({}, "object"),
     "kind_disjoint": ({}, "kind"),
     "kinds_shared": ({"kinds_by_rank": False}, "object"),
     "kinds_shared_even_texture": ({"kinds_by_rank": False, "texture_amplitude": [0.2, 0.2, 0.2]}, "object"),
     "kinds_shared_conforming": ({"kinds_by_rank": False, "conformity": 0.1}, "object"),
+    "kinds_shared_calibrated": (CALIBRATED, "object"),
 }
 
 
