@@ -113,6 +113,12 @@ def wilson(k, n):
     return centre - half, centre + half
 
 
+def share(k, n):
+    """``"0.013 [0.008, 0.020]"``: the share k / n and its 95% Wilson interval."""
+    lo, hi = wilson(k, n)
+    return f"{k / n:.3f} [{lo:.3f}, {hi:.3f}]"
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--draws", type=int, default=400, help="datasets per scenario")
@@ -145,12 +151,8 @@ def main():
                        (f"corrected, {CV - 1} df (evaluate)", 2)]
         cells = []
         for label, column in columns:
-            k = int(np.sum(lows[:, column] > 0))
-            lo, hi = wilson(k, args.draws)
-            cells.append(f"{label} {k / args.draws:.3f} [{lo:.3f}, {hi:.3f}]")
-        k = int(same.sum())
-        lo, hi = wilson(k, args.draws)
-        cells.append(f"evaluate's decision unchanged by another fold seed {k / args.draws:.3f} [{lo:.3f}, {hi:.3f}]")
+            cells.append(f"{label} {share(int(np.sum(lows[:, column] > 0)), args.draws)}")
+        cells.append(f"evaluate's decision unchanged by another fold seed {share(int(same.sum()), args.draws)}")
         lines.append(f"{name}: mean margin {margin.mean():+.3f}; " + "; ".join(cells)
                      + f" ({time.perf_counter() - t1:.0f} s)")
     if args.family:
@@ -158,10 +160,8 @@ def main():
         any_rec = np.array(Parallel(n_jobs=args.n_jobs)(
             delayed(family_draw)(1_000_000 * len(scenarios) + seed, args.family, args.n_repeats)
             for seed in range(args.draws)))
-        k = int(any_rec.sum())
-        lo, hi = wilson(k, args.draws)
         lines.append(f"family ({args.family} pipelines as good as the baseline): evaluate recommends one of them on "
-                     f"{k / args.draws:.3f} [{lo:.3f}, {hi:.3f}] of draws ({time.perf_counter() - t1:.0f} s)")
+                     f"{share(int(any_rec.sum()), args.draws)} of draws ({time.perf_counter() - t1:.0f} s)")
     lines.append(f"a 95% interval's lower end lies above 0 on 0.025 of null draws; total "
                  f"{time.perf_counter() - t0:.0f} s, peak RSS {peak_rss_mb():.0f} MB (main process)")
     text = "\n".join(lines)
