@@ -21,7 +21,14 @@ the preset:
   conformity and the soft rank's compliance fitted to the contact statistics
   of the real held-out presses (``bench_sim_vs_real_stats.py``, seeds 0-2):
   ``force_range=(0.8, 4.8)``, speeds x 0.6, ``conformity=0.05``,
-  ``soft_compliance_range=(0.4, 1.6)``.
+  ``soft_compliance_range=(0.4, 1.6)``;
+- ``kinds_shared_gel_spread``: kinds shared and conforming (``conformity=0.1``),
+  with the gel's own spreading of every imprint (``gel_spread=0.4`` mm) and
+  firmer soft objects (``soft_compliance_range=(0.7, 2.8)``), fitted to the
+  per-rank median and interquartile range of the real peak change.
+
+The variants are defined in ``_sim_variants.py``; the other simulator
+benchmarks take the same names (``--variant``).
 
     python benchmarks/bench_sim_confounds.py [--variants ...] [--seed 0] [--n-jobs 2]
         [--out docs/_output/sim_confounds.txt]
@@ -39,29 +46,9 @@ import numpy as np
 from sklearn.utils import Bunch
 
 from _memory import peak_rss_mb
+from _sim_variants import VARIANTS
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.experiments import evaluate_pipelines, provenance_header
-
-#: Kinds shared, calibrated to the per-rank peak change, changed area and loading frames of the real
-#: held-out presses (real_presses_stats.md): lighter, slower presses, less conformity, firmer soft objects.
-CALIBRATED = {
-    "kinds_by_rank": False,
-    "conformity": 0.05,
-    "force_range": (0.8, 4.8),
-    "speed_range": (3.0, 12.0),
-    "hand_speed_range": (2.4, 9.6),
-    "soft_compliance_range": (0.4, 1.6),
-}
-
-VARIANTS = {
-    "preset": ({}, "object"),
-    "kind_disjoint": ({}, "kind"),
-    "kinds_shared": ({"kinds_by_rank": False}, "object"),
-    "kinds_shared_even_texture": ({"kinds_by_rank": False, "texture_amplitude": [0.2, 0.2, 0.2]}, "object"),
-    "kinds_shared_conforming": ({"kinds_by_rank": False, "conformity": 0.1}, "object"),
-    "kinds_shared_calibrated": (CALIBRATED, "object"),
-}
-
 
 def recall_per_rank(confusion):
     """``"0.72 / 0.46 / 0.54"``: the recall of each class (row) of a confusion matrix, in its order."""

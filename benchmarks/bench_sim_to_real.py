@@ -14,13 +14,14 @@ video under the default ``ContactFrameSelector``.
 
     python benchmarks/bench_sim_to_real.py --data .../example_data
         [--pipelines peak_change contact_profile contact_profile_nn convlstm ofnn] [--roi] [--seed 0]
-        [--sim-seeds 0] [--cache DIR] [--param NAME=VALUE ...] [--feature-subsets]
+        [--sim-seeds 0] [--cache DIR] [--variant NAME] [--param NAME=VALUE ...] [--feature-subsets]
 
 The simulated videos are kept every 2nd pixel (120x160) in memory, the real
 ones cropped (``--roi``: to the gel, ``GEL_ROI``) and kept every 2nd pixel
 (240x320 for the full frame, like a GelSight Mini): both give the contact
 curve and ``ContactProfileFeatures`` the same pixel grid as full resolution.
 ``--cache DIR`` stores the rendered simulated set there (``.npz``) for reruns;
+``--variant`` starts from a named variant of the preset (``_sim_variants.py``);
 ``--param`` overrides an ``everyday`` parameter (as in ``bench_sim_vs_real_stats``);
 ``--feature-subsets`` adds which ``ContactProfileFeatures`` carry over, alone and
 combined (balanced logistic regression on subsets, beside their object-disjoint
@@ -37,6 +38,7 @@ import numpy as np
 
 from _estimate_modulus import FAMILIES, GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
 from _memory import peak_rss_mb, reset_peak
+from _sim_variants import VARIANTS, variant_params
 from bench_sim_vs_real_stats import parse_param
 
 
@@ -127,9 +129,11 @@ def main():
     parser.add_argument("--cache", default=None, help="folder to keep the rendered simulated set in")
     parser.add_argument("--feature-subsets", action="store_true",
                         help="also: which ContactProfileFeatures carry over, alone and combined")
+    parser.add_argument("--variant", default=None, choices=list(VARIANTS), help="a named variant (_sim_variants.py)")
     parser.add_argument("--param", action="append", default=[], type=parse_param,
                         help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
     args = parser.parse_args()
+    args.param = list(variant_params(args.variant, args.param).items())
 
     from sklearn_hardness.preprocessing import ContactFrameSelector
 

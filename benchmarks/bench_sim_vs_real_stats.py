@@ -17,10 +17,14 @@ one of hue only, as under three evenly spaced coloured lights, and 1 when all
 channels change alike) and the contact status counts.
 
     python benchmarks/bench_sim_vs_real_stats.py [--data .../example_data] [--roi] [--seed 0]
-        [--n-objects 42] [--param NAME=VALUE ...]
+        [--n-objects 42] [--variant NAME] [--param NAME=VALUE ...] [--by-kind]
 
 Prints markdown tables, time and peak memory. ``--param`` overrides a preset
-parameter (e.g. ``--param ambient_leak=0.5``) to try a calibration.
+parameter (e.g. ``--param ambient_leak=0.5``) to try a calibration;
+``--variant`` starts from a named variant of ``_sim_variants.py``.
+``--by-kind`` adds, per rank, the median peak change of each shape and the
+share of the within-rank variance of the log peak change that the kind of
+object explains (between-kind over total): what sets the spread within a rank.
 """
 
 import argparse
@@ -31,6 +35,7 @@ from collections import Counter
 import numpy as np
 
 from _memory import peak_rss_mb, reset_peak
+from _sim_variants import VARIANTS, variant_params
 
 #: Held-out real GelSight Mini presses (real_presses_stats.md), median per rank.
 REAL_MINI = {
@@ -99,6 +104,38 @@ def table(groups, rows, title, reference=None):
     return "\n".join(lines)
 
 
+def kind_share(log_peak, kinds):
+    """Share of the variance of ``log_peak`` between the groups ``kinds`` (one-way ANOVA's R^2)."""
+    log_peak, kinds = np.asarray(log_peak, dtype=float), np.asarray(kinds)
+    total = np.sum((log_peak - log_peak.mean()) ** 2)
+    between = sum(np.sum(kinds == k) * (log_peak[kinds == k].mean() - log_peak.mean()) ** 2
+                  for k in np.unique(kinds))
+    return float(between / total) if total > 0 else float("nan")
+
+
+def by_kind(names, rows, data):
+    """Markdown table: per rank, the peak change's IQR, the kind's share of its spread, the median by shape."""
+    objects = {f"everyday-{k:02d}-{o['kind'].replace(' ', '-')}": o for k, o in enumerate(data.objects)}
+    kind = np.array([objects[o]["kind"] for o in data.object_id])
+    shape = np.array([objects[o]["shape"] for o in data.object_id])
+    peak = np.array([r["peak"] for r in rows])
+    usable = np.isfinite(peak) & (peak > 0) & np.array([r["frames"] > 7 for r in rows])
+    shapes = sorted(set(shape.tolist()))
+    lines = ["\nPeak change by shape (median, presses) and the kind's share of the within-rank variance of the "
+             "log peak change\n", "| rank | presses | peak change IQR | kind's share | " + " | ".join(shapes) + " |",
+             "|---" * (len(shapes) + 4) + "|"]
+    for g in dict.fromkeys(np.asarray(names).tolist()):
+        m = usable & (np.asarray(names) == g)
+        lo, hi = np.percentile(peak[m], [25, 75])
+        cells = []
+        for s_ in shapes:
+            ms = m & (shape == s_)
+            cells.append(f"{np.median(peak[ms]):.2f} ({ms.sum()})" if ms.any() else "-")
+        lines.append(f"| {g} | {m.sum()} | {hi - lo:.2f} | {kind_share(np.log(peak[m]), kind[m]):.2f} | "
+                     + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
 def parse_param(text):
     """``NAME=VALUE`` or ``NAME=LO,HI`` -> (name, float or tuple); ``true`` / ``false`` -> bool."""
     name, value = text.split("=", 1)
@@ -116,6 +153,9 @@ def main():
     parser.add_argument("--n-objects", type=int, default=None)
     parser.add_argument("--param", action="append", default=[], type=parse_param,
                         help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
+    parser.add_argument("--variant", default=None, choices=list(VARIANTS), help="a named variant (_sim_variants.py)")
+    parser.add_argument("--by-kind", action="store_true",
+                        help="per rank: median peak change by shape, and the share of the spread the kind explains")
     parser.add_argument("--no-sim", action="store_true")
     args = parser.parse_args()
 
@@ -124,7 +164,7 @@ def main():
 
         reset_peak()
         t0 = time.perf_counter()
-        extra = dict(args.param)
+        extra = variant_params(args.variant, args.param)
         if args.n_objects:
             extra["n_objects"] = args.n_objects
         data = make_presses("everyday", random_state=args.seed, **extra)
@@ -133,6 +173,8 @@ def main():
         print(table(names, rows, f"Simulated `everyday` (seed {args.seed}, {len(rows)} presses"
                     f"{', ' + str(extra) if extra else ''}); in brackets: real GelSight Mini median",
                     reference=REAL_MINI))
+        if args.by_kind:
+            print(by_kind(names, rows, data))
         print(f"\n{time.perf_counter() - t0:.1f} s, peak RSS {peak_rss_mb():.0f} MB")
 
     if args.data:

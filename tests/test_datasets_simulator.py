@@ -585,3 +585,49 @@ def test_everyday_conformity_flattens_soft_imprints_only():
     assert np.all(ratio < 1.0) and ratio.min() < 0.6, ratio  # fabrics flatten most, pen tips least
     with pytest.raises(ValueError, match="conformity"):
         make_presses("everyday", conformity=-1.0)
+
+
+def test_everyday_gel_spread_flattens_fine_features_only():
+    # the elastomer layer smooths features narrower than its spread: a ridged object's imprint (threads,
+    # knurls, treads at a pitch under 4 mm) changes much less of the image; a smooth dome's, wide and
+    # without texture, about as much as before; the mechanics are untouched
+    kw = dict(n_objects=24, n_per_class=1, codec=None, truncated_fraction=0.0, short_fraction=0.0,
+              video_length=60, random_state=0)  # the default 240 x 320: smaller frames undersample fine features
+    sharp = make_presses("everyday", **kw)
+    spread = make_presses("everyday", gel_spread=0.6, **kw)
+    for f0, f1 in zip(sharp.force, spread.force):
+        np.testing.assert_array_equal(f0, f1)
+    ratio = {"ridge": [], "smooth dome": []}
+    for i in range(len(sharp.target)):
+        obj = sharp.objects[int(sharp.object_id[i].split("-")[1])]
+        key = "ridge" if obj["shape"] == "ridge" else (
+            "smooth dome" if obj["shape"] == "dome" and obj["texture"] == "smooth" else None)
+        if key:
+            ratio[key].append(contact_curve(spread.videos[i]).max() / contact_curve(sharp.videos[i]).max())
+    assert len(ratio["ridge"]) >= 2 and len(ratio["smooth dome"]) >= 3, ratio
+    assert max(ratio["ridge"]) < 0.5, ratio
+    assert all(0.75 < r < 1.3 for r in ratio["smooth dome"]), ratio
+    with pytest.raises(ValueError, match="gel_spread"):
+        make_presses("everyday", gel_spread=-0.1)
+
+
+def test_everyday_object_rounding_flattens_compliant_edges_not_rigid_ones():
+    # a compliant object's edge rounds against the gel over a length that grows with its own
+    # indentation: a moderate eraser's or cable's edge changes much less of the image, a hard
+    # ruler edge or box corner (indentation near 0) as much as before
+    kw = dict(n_objects=24, n_per_class=1, codec=None, truncated_fraction=0.0, short_fraction=0.0,
+              video_length=60, random_state=0)
+    rigid = make_presses("everyday", **kw)
+    rounded = make_presses("everyday", object_rounding=1.0, **kw)
+    names = list(rigid.target_names)
+    ratio = {"hard": [], "moderate": []}
+    for i in range(len(rigid.target)):
+        obj = rigid.objects[int(rigid.object_id[i].split("-")[1])]
+        rank = names[obj["target"]]
+        if obj["shape"] == "edge" and rank in ratio:
+            ratio[rank].append(contact_curve(rounded.videos[i]).max() / contact_curve(rigid.videos[i]).max())
+    assert len(ratio["hard"]) >= 2 and len(ratio["moderate"]) >= 2, ratio
+    assert all(0.9 < r < 1.1 for r in ratio["hard"]), ratio
+    assert max(ratio["moderate"]) < 1.0 and min(ratio["moderate"]) < 0.75, ratio  # a cable is round already
+    with pytest.raises(ValueError, match="object_rounding"):
+        make_presses("everyday", object_rounding=-1.0)

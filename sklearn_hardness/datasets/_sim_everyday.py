@@ -265,7 +265,12 @@ def _conform(prof, kappa, object_share, scale_px):
     smoothing keeps the profile's integral) spread over a length that grows with the
     object's share of the deformation (``delta_obj / delta``; near 0 for a rigid object).
     """
-    sigma = float(kappa * object_share * scale_px)
+    return _smooth(prof, kappa * object_share * scale_px)
+
+
+def _smooth(prof, sigma_px):
+    """``prof`` smoothed by a Gaussian of s.d. ``sigma_px`` pixels, its integral kept (none below 0.3 px)."""
+    sigma = float(sigma_px)
     if sigma < 0.3:
         return prof
     return cv2.GaussianBlur(np.ascontiguousarray(prof, dtype=np.float32), (0, 0), sigma,
@@ -317,6 +322,12 @@ def render_everyday_press(sensor, obj, mech, center_mm, rng, params):
             kappa = params.get("conformity", 0.0)
             if kappa > 0:  # the same load (gel volume) spread by a compliant object
                 prof = _conform(prof, kappa, mech["object_indentation"][t] / approach, scale / mm_per_px2)
+            # the gel layer's own spreading (the same for every object) and a compliant object's rounding of
+            # its edges, ridges and texture, over a length that grows with its own indentation (mm)
+            spread = np.hypot(params.get("gel_spread", 0.0),
+                              params.get("object_rounding", 0.0) * float(mech["object_indentation"][t]))
+            if spread > 0:
+                prof = _smooth(prof, spread / mm_per_px2)
             gy, gx = np.gradient(prof.astype(np.float32), mm_per_px2)
             hx, hy = gx * np.float32(depth), gy * np.float32(depth)
             inv = 1.0 / np.sqrt(1.0 + hx * hx + hy * hy)

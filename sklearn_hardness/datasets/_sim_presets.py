@@ -168,6 +168,10 @@ EVERYDAY_SPECS = {
                       "False: every rank draws from all kinds, so shape and texture say nothing about hardness"),
     "conformity": ("float", 0.0, 100.0, "a compliant object's imprint is smoothed over conformity x its share of the "
                    "deformation x the contact size (0: every object pressed in with its rigid shape)"),
+    "gel_spread": ("float", 0.0, 10.0, "s.d. of the gel's own spreading of every imprint, mm: an elastomer layer smooths "
+                   "features narrower than its thickness (0: the surface follows the object's shape)"),
+    "object_rounding": ("float", 0.0, 10.0, "a compliant object rounds its edges, ridges and texture against the gel: "
+                        "its imprint is smoothed over object_rounding x its own indentation, mm (0: rigid shapes)"),
     "hand_fraction": ("float", 0.0, 1.0, "fraction of presses made by hand (uneven speed), the rest by a robot"),
     "hand_speed_range": ("range", 0.1, 1000.0, "approach speed of hand presses ~ U[lo, hi], mm/s"),
     "video_length": ("int", 8, 10000, "frames of a full recording"),
@@ -309,6 +313,8 @@ PRESETS["everyday"] = dict(
     light_elevation=80.0,
     kinds_by_rank=True,
     conformity=0.0,
+    gel_spread=0.0,
+    object_rounding=0.0,
 )
 
 _NON_PHYSICAL = ("description", "hardness_unit", "n_per_class")
