@@ -133,7 +133,7 @@ def main():
     parser.add_argument("--param", action="append", default=[], type=parse_param,
                         help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
     args = parser.parse_args()
-    args.param = list(variant_params(args.variant, args.param).items())
+    params = variant_params(args.variant, args.param)
 
     from sklearn_hardness.preprocessing import ContactFrameSelector
 
@@ -141,12 +141,12 @@ def main():
     t0 = time.perf_counter()
     videos, target, groups = [], [], []
     for s in args.sim_seeds:
-        v, y, hardness, names, obj = simulated(s, cache=args.cache, **dict(args.param))
+        v, y, hardness, names, obj = simulated(s, cache=args.cache, **params)
         videos += v
         target.append(y)
         groups += [f"{s}-{o}" for o in obj]
     target = np.concatenate(target)
-    print(f"simulated everyday{' ' + str(dict(args.param)) if args.param else ''}, seeds "
+    print(f"simulated everyday{' ' + str(params) if params else ''}, seeds "
           f"{args.sim_seeds}: {len(videos)} presses "
           f"({dict(Counter(names[target].tolist()))}), {time.perf_counter() - t0:.1f} s, "
           f"peak RSS {peak_rss_mb():.0f} MB")

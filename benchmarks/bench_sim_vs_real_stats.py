@@ -115,9 +115,9 @@ def kind_share(log_peak, kinds):
 
 def by_kind(names, rows, data):
     """Markdown table: per rank, the peak change's IQR, the kind's share of its spread, the median by shape."""
-    objects = {f"everyday-{k:02d}-{o['kind'].replace(' ', '-')}": o for k, o in enumerate(data.objects)}
-    kind = np.array([objects[o]["kind"] for o in data.object_id])
-    shape = np.array([objects[o]["shape"] for o in data.object_id])
+    objects = [data.objects[int(o.split("-")[1])] for o in data.object_id]  # everyday-<index>-<kind>
+    kind = np.array([o["kind"] for o in objects])
+    shape = np.array([o["shape"] for o in objects])
     peak = np.array([r["peak"] for r in rows])
     usable = np.isfinite(peak) & (peak > 0) & np.array([r["frames"] > 7 for r in rows])
     shapes = sorted(set(shape.tolist()))

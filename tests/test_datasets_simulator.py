@@ -587,14 +587,17 @@ def test_everyday_conformity_flattens_soft_imprints_only():
         make_presses("everyday", conformity=-1.0)
 
 
+#: 24 objects, one full press each, at the default 240 x 320: smaller frames undersample fine features.
+FULL_SIZE_PRESSES = dict(n_objects=24, n_per_class=1, codec=None, truncated_fraction=0.0, short_fraction=0.0,
+                         video_length=60, random_state=0)
+
+
 def test_everyday_gel_spread_flattens_fine_features_only():
     # the elastomer layer smooths features narrower than its spread: a ridged object's imprint (threads,
     # knurls, treads at a pitch under 4 mm) changes much less of the image; a smooth dome's, wide and
     # without texture, about as much as before; the mechanics are untouched
-    kw = dict(n_objects=24, n_per_class=1, codec=None, truncated_fraction=0.0, short_fraction=0.0,
-              video_length=60, random_state=0)  # the default 240 x 320: smaller frames undersample fine features
-    sharp = make_presses("everyday", **kw)
-    spread = make_presses("everyday", gel_spread=0.6, **kw)
+    sharp = make_presses("everyday", **FULL_SIZE_PRESSES)
+    spread = make_presses("everyday", gel_spread=0.6, **FULL_SIZE_PRESSES)
     for f0, f1 in zip(sharp.force, spread.force):
         np.testing.assert_array_equal(f0, f1)
     ratio = {"ridge": [], "smooth dome": []}
@@ -615,10 +618,8 @@ def test_everyday_object_rounding_flattens_compliant_edges_not_rigid_ones():
     # a compliant object's edge rounds against the gel over a length that grows with its own
     # indentation: a moderate eraser's or cable's edge changes much less of the image, a hard
     # ruler edge or box corner (indentation near 0) as much as before
-    kw = dict(n_objects=24, n_per_class=1, codec=None, truncated_fraction=0.0, short_fraction=0.0,
-              video_length=60, random_state=0)
-    rigid = make_presses("everyday", **kw)
-    rounded = make_presses("everyday", object_rounding=1.0, **kw)
+    rigid = make_presses("everyday", **FULL_SIZE_PRESSES)
+    rounded = make_presses("everyday", object_rounding=1.0, **FULL_SIZE_PRESSES)
     names = list(rigid.target_names)
     ratio = {"hard": [], "moderate": []}
     for i in range(len(rigid.target)):
