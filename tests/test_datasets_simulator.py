@@ -22,6 +22,8 @@ from sklearn_hardness.datasets._sim_presets import (
 from sklearn_hardness.datasets._sim_videos import SimulatedPressVideos
 from sklearn_hardness.preprocessing import ContactFrameSelector
 
+from ._presets import EVERYDAY_BEFORE
+
 SMALL = (48, 64)
 
 
@@ -533,8 +535,8 @@ def test_everyday_light_spread_turns_hue_change_into_brightness_change():
 
 def test_everyday_kinds_by_rank_false_mixes_shapes_over_ranks():
     kw = dict(n_per_class=1, image_size=(24, 32), codec=None, random_state=0)
-    by_rank = make_presses("everyday", **kw)
-    assert by_rank.objects == make_presses("everyday", kinds_by_rank=True, **kw).objects  # the default
+    by_rank = make_presses("everyday", kinds_by_rank=True, **kw)
+    assert make_presses("everyday", **kw).objects == make_presses("everyday", kinds_by_rank=False, **kw).objects  # the default
     # the preset ties shape to rank: its soft objects are broad contacts, its hard ones never are
     shapes = {c: {o["shape"] for o in by_rank.objects if o["target"] == c} for c in range(3)}
     hard, soft = list(by_rank.target_names).index("hard"), list(by_rank.target_names).index("soft")
@@ -569,8 +571,8 @@ def test_everyday_conformity_flattens_soft_imprints_only():
     # a soft object spreads its load: with conformity its imprint changes less of the image; a rigid
     # object's (object share of the deformation near 0) stays the same; the mechanics are untouched
     kw = dict(n_objects=9, n_per_class=2, image_size=(48, 64), codec=None, kinds_by_rank=False,
-              truncated_fraction=0.0, random_state=0)
-    rigid = make_presses("everyday", **kw)
+              truncated_fraction=0.0, gel_spread=0.0, soft_compliance_range=(1.0, 4.0), random_state=0)
+    rigid = make_presses("everyday", conformity=0.0, **kw)
     soft = make_presses("everyday", conformity=0.5, **kw)
     for f0, f1 in zip(rigid.force, soft.force):
         np.testing.assert_array_equal(f0, f1)
@@ -587,9 +589,10 @@ def test_everyday_conformity_flattens_soft_imprints_only():
         make_presses("everyday", conformity=-1.0)
 
 
-#: 24 objects, one full press each, at the default 240 x 320: smaller frames undersample fine features.
+#: 24 objects, one full press each, at the default 240 x 320 (smaller frames undersample fine features),
+#: with the former preset's rigid imprints and kinds by rank, so each effect is measured from zero.
 FULL_SIZE_PRESSES = dict(n_objects=24, n_per_class=1, codec=None, truncated_fraction=0.0, short_fraction=0.0,
-                         video_length=60, random_state=0)
+                         video_length=60, random_state=0, **EVERYDAY_BEFORE)
 
 
 def test_everyday_gel_spread_flattens_fine_features_only():
@@ -597,7 +600,7 @@ def test_everyday_gel_spread_flattens_fine_features_only():
     # knurls, treads at a pitch under 4 mm) changes much less of the image; a smooth dome's, wide and
     # without texture, about as much as before; the mechanics are untouched
     sharp = make_presses("everyday", **FULL_SIZE_PRESSES)
-    spread = make_presses("everyday", gel_spread=0.6, **FULL_SIZE_PRESSES)
+    spread = make_presses("everyday", **{**FULL_SIZE_PRESSES, "gel_spread": 0.6})
     for f0, f1 in zip(sharp.force, spread.force):
         np.testing.assert_array_equal(f0, f1)
     ratio = {"ridge": [], "smooth dome": []}
@@ -619,7 +622,7 @@ def test_everyday_object_rounding_flattens_compliant_edges_not_rigid_ones():
     # indentation: a moderate eraser's or cable's edge changes much less of the image, a hard
     # ruler edge or box corner (indentation near 0) as much as before
     rigid = make_presses("everyday", **FULL_SIZE_PRESSES)
-    rounded = make_presses("everyday", object_rounding=1.0, **FULL_SIZE_PRESSES)
+    rounded = make_presses("everyday", **{**FULL_SIZE_PRESSES, "object_rounding": 1.0})
     names = list(rigid.target_names)
     ratio = {"hard": [], "moderate": []}
     for i in range(len(rigid.target)):

@@ -14,6 +14,8 @@ from sklearn_hardness.experiments._run import _input_scaler, _rows
 from sklearn_hardness.experiments._config import check_config, config_hash
 from sklearn_hardness.experiments._data import prepare_inputs
 
+from ._presets import EVERYDAY_BEFORE
+
 SMALL = dict(n_initial=1, n_per_query=1, n_iterations=2, n_test=1, initial_epochs=20, epochs_per_query=5,
              n_mc_samples=5)
 
@@ -21,7 +23,7 @@ SMALL = dict(n_initial=1, n_per_query=1, n_iterations=2, n_test=1, initial_epoch
 @pytest.fixture(scope="module")
 def everyday():
     return make_presses("everyday", n_per_class=2, n_objects=9, class_ratio=[1, 1, 1], image_size=(32, 40),
-                        codec=None, random_state=0)
+                        codec=None, random_state=0, **EVERYDAY_BEFORE)  # test objects named by their kind
 
 
 def test_inputs_are_the_ten_contact_profile_features_of_whole_videos(everyday):

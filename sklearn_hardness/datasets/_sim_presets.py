@@ -266,13 +266,15 @@ PRESETS["everyday"] = dict(
     _COMMON,
     description=(
         "Everyday objects pressed onto a marker-less GelSight Mini (240x320, 25 fps), in three "
-        "hardness ranks with imbalanced counts (soft : moderate : hard ~ 1 : 3 : 3): foams, sponges, "
-        "pillows, fabrics and cotton (broad weak contacts with texture); rubber balls, erasers, fruit, "
-        "shoe soles, cables; marbles, mugs, phones, ruler edges, box corners, bottle caps, screws, "
-        "pen tips, wood (domes of many radii, edges, ridges, small sharp contacts). A few presses per "
+        "hardness ranks with imbalanced counts (soft : moderate : hard ~ 1 : 3 : 3). Every rank draws "
+        "from the same kinds of object (domes of many radii, edges, ridges, small sharp contacts, "
+        "broad textured contacts: foams, erasers, fruit, marbles, ruler edges, bottle caps, pen tips, "
+        "...), so an imprint's shape says nothing about its hardness; a compliant object's imprint "
+        "rounds as it conforms, and the gel smooths every imprint over 0.4 mm. A few presses per "
         "object by hand or robot at varied speed and force; mostly 126-frame videos with contact "
         "from frame 24-36 held ~2 s, some of 50 frames, a few truncated to 3-7 frames. Calibrated "
-        "against real GelSight Mini recordings (see docs/simulator.md)."
+        "against real GelSight Mini recordings: per-rank contact strength, its spread and the "
+        "ranking of the pipelines (see docs/simulator.md)."
     ),
     hardness=np.array([3.0, 2.0, 1.0]),
     hardness_unit="rank",
@@ -297,7 +299,7 @@ PRESETS["everyday"] = dict(
     noise_std=0.5,
     n_objects=42,
     class_ratio=np.array([1.0, 3.0, 3.0]),
-    soft_compliance_range=(1.0, 4.0),
+    soft_compliance_range=(0.7, 2.8),
     moderate_compliance_range=(0.2, 1.0),
     hard_compliance_range=(0.002, 0.03),
     texture_amplitude=np.array([0.5, 0.15, 0.05]),
@@ -311,9 +313,9 @@ PRESETS["everyday"] = dict(
     ambient_rise_frames=(5.0, 9.0),
     light_spread=60.0,
     light_elevation=80.0,
-    kinds_by_rank=True,
-    conformity=0.0,
-    gel_spread=0.0,
+    kinds_by_rank=False,
+    conformity=0.1,
+    gel_spread=0.4,
     object_rounding=0.0,
 )
 
