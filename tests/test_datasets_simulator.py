@@ -536,7 +536,8 @@ def test_everyday_light_spread_turns_hue_change_into_brightness_change():
 def test_everyday_kinds_by_rank_false_mixes_shapes_over_ranks():
     kw = dict(n_per_class=1, image_size=(24, 32), codec=None, random_state=0)
     by_rank = make_presses("everyday", kinds_by_rank=True, **kw)
-    assert make_presses("everyday", **kw).objects == make_presses("everyday", kinds_by_rank=False, **kw).objects  # the default
+    default = make_presses("everyday", **kw)
+    assert default.objects == make_presses("everyday", kinds_by_rank=False, **kw).objects
     # the preset ties shape to rank: its soft objects are broad contacts, its hard ones never are
     shapes = {c: {o["shape"] for o in by_rank.objects if o["target"] == c} for c in range(3)}
     hard, soft = list(by_rank.target_names).index("hard"), list(by_rank.target_names).index("soft")
@@ -570,10 +571,10 @@ def test_everyday_shared_kinds_keep_their_texture_depth():
 def test_everyday_conformity_flattens_soft_imprints_only():
     # a soft object spreads its load: with conformity its imprint changes less of the image; a rigid
     # object's (object share of the deformation near 0) stays the same; the mechanics are untouched
-    kw = dict(n_objects=9, n_per_class=2, image_size=(48, 64), codec=None, kinds_by_rank=False,
-              truncated_fraction=0.0, gel_spread=0.0, soft_compliance_range=(1.0, 4.0), random_state=0)
-    rigid = make_presses("everyday", conformity=0.0, **kw)
-    soft = make_presses("everyday", conformity=0.5, **kw)
+    kw = dict(n_objects=9, n_per_class=2, image_size=(48, 64), codec=None, truncated_fraction=0.0,
+              random_state=0, **{**EVERYDAY_BEFORE, "kinds_by_rank": False})  # conformity 0, no gel spread
+    rigid = make_presses("everyday", **kw)
+    soft = make_presses("everyday", **{**kw, "conformity": 0.5})
     for f0, f1 in zip(rigid.force, soft.force):
         np.testing.assert_array_equal(f0, f1)
     names = list(rigid.target_names)
