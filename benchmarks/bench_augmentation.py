@@ -25,19 +25,18 @@ seeds, time and peak memory.
 """
 
 import argparse
-import shlex
-import sys
 import time
 
 import numpy as np
 
 from _estimate_modulus import GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
 from _memory import peak_rss_mb
+from _output import write_output
 from bench_sim_confounds import recall_per_rank
 from bench_sim_to_real import simulated
 from bench_sim_vs_real_stats import parse_param
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import evaluate_pipelines, provenance_header
+from sklearn_hardness.experiments import evaluate_pipelines
 from sklearn_hardness.models import make_convlstm_pipeline
 
 
@@ -130,9 +129,7 @@ def main():
     say(f"baseline sim {np.mean([x[1] for x in rows[args.augmenters[0]]]):.3f}")
     say(f"\n{time.perf_counter() - t0:.0f} s, peak RSS of the main process {peak_rss_mb():.0f} MB")
     if args.out:
-        command = shlex.join(["python", "benchmarks/bench_augmentation.py", *sys.argv[1:]])
-        with open(args.out, "w") as f:
-            f.write(provenance_header(command) + "\n" + "\n".join(out) + "\n")
+        write_output(args.out, "\n".join(out))
 
 
 if __name__ == "__main__":

@@ -20,16 +20,15 @@ peak memory. ``--out`` also writes the output after a provenance line.
 """
 
 import argparse
-import shlex
-import sys
 import time
 
 import numpy as np
 
 from _memory import peak_rss_mb
+from _output import report
 from bench_sim_vs_real_stats import parse_param
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import evaluate_pipelines, provenance_header
+from sklearn_hardness.experiments import evaluate_pipelines
 
 
 def margins(result):
@@ -78,11 +77,7 @@ def main():
                 + f"; mean {np.mean([m for m, _ in others]):+.2f}, interval above 0 on {above} of {len(others)}")
     lines.append(f"peak RSS {peak_rss_mb():.0f} MB")
     text = "\n".join(lines)
-    print(text)
-    if args.out:
-        command = "python benchmarks/bench_recommendation.py " + " ".join(shlex.quote(a) for a in sys.argv[1:])
-        with open(args.out, "w") as fh:
-            fh.write(provenance_header(command) + "\n" + text + "\n")
+    report(text, args.out)
 
 
 if __name__ == "__main__":

@@ -38,7 +38,6 @@ variant), the time and peak memory; ``--out`` writes it with a provenance line.
 """
 
 import argparse
-import shlex
 import sys
 import time
 
@@ -46,9 +45,10 @@ import numpy as np
 from sklearn.utils import Bunch
 
 from _memory import peak_rss_mb
+from _output import report
 from _sim_variants import VARIANTS
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import evaluate_pipelines, provenance_header
+from sklearn_hardness.experiments import evaluate_pipelines
 
 def recall_per_rank(confusion):
     """``"0.72 / 0.46 / 0.54"``: the recall of each class (row) of a confusion matrix, in its order."""
@@ -110,11 +110,7 @@ def main():
         *lines,
         f"peak RSS of the main process {peak_rss_mb():.0f} MB",
     ])
-    print(text)
-    if args.out:
-        command = shlex.join(["python", "benchmarks/bench_sim_confounds.py", *sys.argv[1:]])
-        with open(args.out, "w") as f:
-            f.write(provenance_header(command) + "\n" + text + "\n")
+    report(text, args.out)
 
 
 if __name__ == "__main__":

@@ -76,10 +76,12 @@ def order_report(name, est, real, hardness):
     return scores, family_pairs(real.object_name, scores)
 
 
-#: Feature subsets of ``--feature-subsets`` (ContactProfileFeatures names); None: all ten.
+#: Feature subsets of ``--feature-subsets`` (ContactProfileFeatures names); None: all of them (twelve
+#: since issue 20 added ``log_loading_time`` and ``log_contact_spread``).
 SUBSETS = [None, "-concentration", "log_peak_change", "peak_over_precontact", "rise_frames",
            "area_at_peak", "concentration", "rise_frames area_at_peak",
-           "peak_over_precontact rise_frames area_at_peak"]
+           "peak_over_precontact rise_frames area_at_peak", "log_loading_time", "log_contact_spread",
+           "log_peak_change log_loading_time log_contact_spread"]
 
 
 def feature_subsets(videos, target, groups, real, hardness):

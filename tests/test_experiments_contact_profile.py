@@ -26,11 +26,11 @@ def everyday():
                         codec=None, random_state=0, **EVERYDAY_BEFORE)  # test objects named by their kind
 
 
-def test_inputs_are_the_ten_contact_profile_features_of_whole_videos(everyday):
+def test_inputs_are_the_contact_profile_features_of_whole_videos(everyday):
     cfg = check_config(get_config("silicone5", model="contact_profile_nn"))
     assert cfg["frame_size"] is None  # no frame selection, and the hash says so
     inputs = prepare_inputs(everyday, cfg, "contact_profile_nn", memory=False, verbose=0)
-    assert inputs.X.shape == (len(everyday.target), 10) and inputs.X.dtype == np.float32
+    assert inputs.X.shape == (len(everyday.target), 12) and inputs.X.dtype == np.float32
     from sklearn_hardness.features import ContactProfileFeatures
 
     expected = ContactProfileFeatures().fit_transform(everyday.videos)

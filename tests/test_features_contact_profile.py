@@ -25,9 +25,10 @@ def test_shape_names_and_short_videos():
          np.full((2, 16, 16, 3), 9, np.uint8)]
     est = ContactProfileFeatures().fit(X)
     F = est.transform(X)
-    assert F.shape == (4, 10) and np.all(np.isfinite(F))
+    assert F.shape == (4, 12) and np.all(np.isfinite(F))
     names = est.get_feature_names_out().tolist()
-    assert len(names) == 10 and names[2] == "rise_frames"
+    assert len(names) == 12 and names[2] == "rise_frames"
+    assert names[10:] == ["log_loading_time", "log_contact_spread"]
     # slow loading is seen as slow loading, at the same peak
     assert F[1, names.index("rise_frames")] > F[0, names.index("rise_frames")] + 10
     assert abs(F[1, 0] - F[0, 0]) < 0.2
@@ -36,6 +37,52 @@ def test_shape_names_and_short_videos():
     assert big[0, names.index("area_at_peak")] > 2 * F[0, names.index("area_at_peak")]
     assert clone(est).get_params() == est.get_params()
     np.testing.assert_allclose(ContactProfileFeatures(n_jobs=2).fit_transform(X), F)
+
+
+def test_loading_time_between_frames():
+    # rise_frames counts whole frames; log_loading_time follows the rise between them
+    rng = np.random.default_rng(2)
+    names = ContactProfileFeatures().fit([_press(3, 6, rng)]).get_feature_names_out().tolist()
+    rises = [4, 5, 6, 8, 10, 16]
+    F = ContactProfileFeatures().fit_transform([growing_disc_press(r, 8, rng, n=80, level=60) for r in rises])
+    loading = F[:, names.index("log_loading_time")]
+    assert np.all(np.diff(loading) > 0)
+    # proportional to the rise: twice the rise, twice the loading time (within 20%)
+    assert abs((loading[4] - loading[1]) - np.log(2)) < 0.2
+    assert abs((loading[5] - loading[3]) - np.log(2)) < 0.2
+
+
+def _rim_press(radius, level, rng, n=40, start=10, size=64):
+    """A flat contact whose change shows only at its rim (a ring 2 px wide), as a gel's shading does."""
+    video = np.full((n, size, size, 3), 100.0)
+    yy, xx = np.mgrid[:size, :size]
+    rr = np.sqrt((yy - size / 2) ** 2 + (xx - size / 2) ** 2)
+    for t in range(start, n):
+        r = radius * min(1.0, (t - start + 1) / 4)
+        video[t][np.abs(rr - r) <= 1.0] += level
+    video += rng.normal(0, 1.0, video.shape)
+    return np.clip(video, 0, 255).astype(np.uint8)
+
+
+def test_contact_spread_follows_the_contact_size_not_its_strength():
+    rng = np.random.default_rng(3)
+    est = ContactProfileFeatures().fit([_rim_press(8, 30, rng)])
+    names = est.get_feature_names_out().tolist()
+    radii, levels = (6, 8, 12, 16, 24), (15, 60)
+    F = est.transform([_rim_press(r, lv, rng) for lv in levels for r in radii])
+    spread = F[:, names.index("log_contact_spread")].reshape(len(levels), len(radii))
+    area = F[:, names.index("area_at_peak")].reshape(len(levels), len(radii))
+    # a wider rim, a wider spread, at either strength (15 and 60 times the pixel noise)
+    assert np.all(np.diff(spread, axis=1) > 0.05)
+    # it is a second moment: twice the radius (12 -> 24) gives about four times it, where the share of
+    # changed pixels of a rim only doubles
+    assert abs((spread[1, 4] - spread[1, 2]) - np.log(4)) < 0.2
+    assert area[1, 4] / area[1, 2] < 2.2
+    # a contact well above the noise: the same spread at a quarter of the strength
+    assert np.all(np.abs(spread[0, 3:] - spread[1, 3:]) < 0.05)
+    # no change at all: the floor, not a NaN
+    still = est.transform([np.full((20, 32, 32, 3), 100, np.uint8)])
+    assert np.isfinite(still).all()
 
 
 def test_separates_what_the_peak_change_cannot():

@@ -298,9 +298,10 @@ class DINOv2NNClassifier(_MLPClassifier):
 class ContactProfileNNClassifier(_MLPClassifier):
     """Contact-profile features + MLP head with MC dropout.
 
-    Input: 2-D features of the loading phase, e.g. the ten columns of
+    Input: 2-D features of the loading phase, e.g. the twelve columns of
     :class:`sklearn_hardness.features.ContactProfileFeatures` (peak change,
-    loading time, contact area, how area grows with intensity, ...), which
+    loading time, contact area and spread, how area grows with intensity,
+    ...), which
     carry hardness across object shapes better than the frames themselves.
     Same head as :class:`OFNNClassifier` (Linear -> ReLU -> dropout ->
     Linear), sized for a handful of features: a narrower hidden layer, a

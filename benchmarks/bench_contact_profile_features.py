@@ -1,0 +1,164 @@
+"""Benchmark: what the contact-profile features read of a press, against what the press holds.
+
+On the ``everyday`` preset, per seed (object-disjoint 5-fold
+``StratifiedGroupKFold`` with ``random_state=seed``: the folds of
+``sklearn-hardness evaluate everyday --seed SEED``), the balanced accuracy of
+a balanced logistic regression on
+
+- the one number (:func:`~sklearn_hardness.experiments.peak_contact_change`:
+  the ``peak_change`` baseline of ``evaluate``);
+- the first ten :class:`~sklearn_hardness.features.ContactProfileFeatures`
+  (the features before issue 20's loading time and contact spread) and all of
+  them (the ``contact_profile`` pipeline of ``evaluate``);
+- the simulator's own truth of what the gel is given, read without noise or
+  codec (an ideal reader of the video): the rendered gel depth and contact
+  area at the peak of the gel's indentation and the loading time (s, from
+  first contact to that peak);
+- what a robot's proprioception adds: the peak force and the total approach
+  (sensor displacement into the object) at the peak.
+
+The last two rows are what a press *holds*, not what a pipeline reaches:
+the first is what three quantities an ideal reader of the gel would measure
+give with the same head (in the simulator's physics; a reader of their whole
+course might get more), the second what force and displacement tell.
+Beside them, how well each video feature measures its ideal counterpart
+(Spearman correlation over the presses with contact).
+
+    python benchmarks/bench_contact_profile_features.py [--seeds 0 1 2 3 4] [--n-jobs 2]
+        [--variant NAME] [--param NAME=VALUE ...] [--out FILE]
+
+Prints a markdown table (one column per seed and the mean), the correlations,
+time and peak memory; ``--out`` writes the same text with a provenance line. The ideal rows use the renderer's private profile
+function (``sklearn_hardness.datasets._sim_everyday``): they follow it.
+"""
+
+import argparse
+import time
+import warnings
+
+import numpy as np
+from joblib import Parallel, delayed
+from scipy.stats import spearmanr
+from sklearn.linear_model import LogisticRegression
+from sklearn.metrics import balanced_accuracy_score
+from sklearn.model_selection import StratifiedGroupKFold
+from sklearn.pipeline import make_pipeline
+from sklearn.preprocessing import StandardScaler
+
+from _memory import peak_rss_mb, reset_peak
+from _output import report
+from _sim_variants import VARIANTS, variant_params
+from bench_sim_vs_real_stats import parse_param
+
+ROWS = ("one number (peak change)", "contact profile, first 10 features", "contact profile, 12 features",
+        "ideal reader of the gel: depth, area, loading time", "force and approach (robot)")
+
+
+def video_features(videos, i):
+    """The one number and the contact-profile features of video ``i`` (rendered in the worker)."""
+    from sklearn_hardness.experiments import peak_contact_change
+    from sklearn_hardness.features import ContactProfileFeatures
+
+    video = videos[i]
+    return np.concatenate([peak_contact_change([video])[0],
+                           ContactProfileFeatures().fit_transform([video])[0]])
+
+
+def ideal_features(data):
+    """Per press: log rendered depth and contact area at the gel's peak, log loading time, log force, log approach.
+
+    NaN for presses whose gel is never indented (truncated videos).
+    """
+    from sklearn_hardness.datasets._sim_everyday import _profile, _texture
+
+    p = data.params
+    h, w = 120, 160  # the renderer's half-resolution grid of a 240x320 frame
+    mm = p["field_of_view"] / w
+    x, y = np.meshgrid((np.arange(w) - (w - 1) / 2) * mm, (np.arange(h) - (h - 1) / 2) * mm)
+    rows = []
+    for oid, mech in zip(data.object_id, data.mechanics):
+        obj = data.objects[int(str(oid).split("-")[1])]  # everyday-<index>-<kind>
+        gel, approach, force, t = (mech[k] for k in ("gel_indentation", "approach", "force_true", "time"))
+        on = np.flatnonzero(gel > 1e-5)
+        if not len(on):
+            rows.append([np.nan] * 5)
+            continue
+        k = int(np.argmax(gel))
+        prof, _ = _profile(obj, x, y, approach[k], p["dome_radius"], _texture(obj, x, y))
+        area = max(np.count_nonzero(prof > 0.5), 1) * mm * mm
+        depth = min(gel[k], force[k] / (p["gel_foundation_modulus"] * area))  # as the renderer caps it
+        rows.append([np.log(depth), np.log(area), np.log(t[k] - t[on[0]] + 1e-3), np.log(force.max()),
+                     np.log(approach[k])])
+    return np.asarray(rows)
+
+
+def scores(X, y, folds):
+    """Balanced accuracy per fold of a balanced logistic regression on standardised ``X``."""
+    model = make_pipeline(StandardScaler(), LogisticRegression(max_iter=2000, class_weight="balanced"))
+    return [balanced_accuracy_score(y[te], model.fit(X[tr], y[tr]).predict(X[te])) for tr, te in folds]
+
+
+def run_seed(seed, overrides, n_jobs):
+    from sklearn_hardness.datasets import make_presses
+
+    data = make_presses("everyday", return_mechanics=True, random_state=seed, **overrides)
+    y, groups = np.asarray(data.target), np.asarray(data.object_id)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        V = np.vstack(Parallel(n_jobs=n_jobs)(delayed(video_features)(data.videos, i) for i in range(len(y))))
+    ideal = ideal_features(data)
+    folds = list(StratifiedGroupKFold(n_splits=5, shuffle=True, random_state=np.random.RandomState(seed)).split(
+        np.zeros(len(y)), y, groups))
+    contact = np.isfinite(ideal).all(axis=1)
+    # presses without contact: the ideal rows are scored on the presses with contact of each test fold
+    ideal_folds = [(tr[contact[tr]], te[contact[te]]) for tr, te in folds]
+    out = {
+        ROWS[0]: scores(V[:, :1], y, folds),
+        ROWS[1]: scores(V[:, 1:11], y, folds),
+        ROWS[2]: scores(V[:, 1:], y, folds),
+        ROWS[3]: scores(np.nan_to_num(ideal[:, :3]), y, ideal_folds),
+        ROWS[4]: scores(np.nan_to_num(ideal[:, 3:]), y, ideal_folds),
+    }
+    c = contact
+    corr = {"gel depth ~ log_peak_change": spearmanr(ideal[c, 0], V[c, 1])[0],
+            "contact area ~ area_at_peak": spearmanr(ideal[c, 1], V[c, 6])[0],
+            "contact area ~ log_contact_spread": spearmanr(ideal[c, 1], V[c, 12])[0],
+            "loading time ~ rise_frames": spearmanr(ideal[c, 2], V[c, 3])[0],
+            "loading time ~ log_loading_time": spearmanr(ideal[c, 2], V[c, 11])[0]}
+    return {k: float(np.mean(v)) for k, v in out.items()}, corr, int(contact.sum()), len(y)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
+    ap.add_argument("--n-jobs", type=int, default=2)
+    ap.add_argument("--variant", choices=sorted(VARIANTS), default=None)
+    ap.add_argument("--param", type=parse_param, action="append", default=[])
+    ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
+    args = ap.parse_args(argv)
+    overrides = variant_params(args.variant, args.param)
+    reset_peak()
+    t0 = time.perf_counter()
+    results = [run_seed(s, overrides, args.n_jobs) for s in args.seeds]
+    seconds = time.perf_counter() - t0
+    lines = [f"everyday preset{f' (variant {args.variant})' if args.variant else ''}"
+             f"{f', overrides {overrides}' if overrides else ''}: balanced accuracy, object-disjoint 5 folds, "
+             "balanced logistic regression (chance 0.33)", "",
+             "| input | " + " | ".join(f"seed {s}" for s in args.seeds) + " | mean |",
+             "|---" * (len(args.seeds) + 2) + "|"]
+    for row in ROWS:
+        vals = [r[0][row] for r in results]
+        lines.append(f"| {row} | " + " | ".join(f"{v:.2f}" for v in vals) + f" | {np.mean(vals):.3f} |")
+    lines += ["", "How well each video feature measures its ideal counterpart (Spearman, presses with contact)", "",
+              "| feature ~ ideal | " + " | ".join(f"seed {s}" for s in args.seeds) + " |",
+              "|---" * (len(args.seeds) + 1) + "|"]
+    for name in results[0][1]:
+        lines.append(f"| {name} | " + " | ".join(f"{r[1][name]:.2f}" for r in results) + " |")
+    lines += ["", "presses with contact (ideal rows): " + ", ".join(f"{r[2]} of {r[3]}" for r in results),
+              "", f"{seconds:.1f} s, peak memory {peak_rss_mb():.0f} MB"]
+    text = "\n".join(lines)
+    report(text, args.out)
+
+
+if __name__ == "__main__":
+    main()
