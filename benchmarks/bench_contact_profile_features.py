@@ -48,7 +48,7 @@ from sklearn.preprocessing import StandardScaler
 from _memory import peak_rss_mb, reset_peak
 from _output import report
 from _sim_variants import VARIANTS, variant_params
-from bench_sim_vs_real_stats import parse_param
+from bench_sim_vs_real_stats import parse_param, press_objects
 
 ROWS = ("one number (peak change)", "contact profile, first 10 features", "contact profile, 12 features",
         "ideal reader of the gel: depth, area, loading time", "force and approach (robot)")
@@ -76,8 +76,7 @@ def ideal_features(data):
     mm = p["field_of_view"] / w
     x, y = np.meshgrid((np.arange(w) - (w - 1) / 2) * mm, (np.arange(h) - (h - 1) / 2) * mm)
     rows = []
-    for oid, mech in zip(data.object_id, data.mechanics):
-        obj = data.objects[int(str(oid).split("-")[1])]  # everyday-<index>-<kind>
+    for obj, mech in zip(press_objects(data), data.mechanics):
         gel, approach, force, t = (mech[k] for k in ("gel_indentation", "approach", "force_true", "time"))
         on = np.flatnonzero(gel > 1e-5)
         if not len(on):

@@ -113,9 +113,14 @@ def kind_share(log_peak, kinds):
     return float(between / total) if total > 0 else float("nan")
 
 
+def press_objects(data):
+    """The object dict of each press of an ``everyday`` Bunch (its ``object_id`` is ``everyday-<index>-<kind>``)."""
+    return [data.objects[int(str(o).split("-")[1])] for o in data.object_id]
+
+
 def by_kind(names, rows, data):
     """Markdown table: per rank, the peak change's IQR, the kind's share of its spread, the median by shape."""
-    objects = [data.objects[int(o.split("-")[1])] for o in data.object_id]  # everyday-<index>-<kind>
+    objects = press_objects(data)
     kind = np.array([o["kind"] for o in objects])
     shape = np.array([o["shape"] for o in objects])
     peak = np.array([r["peak"] for r in rows])
