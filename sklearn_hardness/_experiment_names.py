@@ -9,7 +9,7 @@ Nothing here may import anything beyond the standard library.
 """
 
 #: Classifiers selectable by name in the experiments (``model=...``, ``reproduce --model``).
-MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn")
+MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn", "contact_profile")
 
 #: Pipelines ``evaluate`` knows by name (``"peak_change"`` is the one-number baseline).
 PIPELINE_NAMES = ("peak_change", "contact_profile", "contact_profile_nn", "convlstm", "ofnn", "dinov2nn")
@@ -34,8 +34,10 @@ QUICK_OVERRIDES = {
 
 #: One line per configuration key: get_config's docstring and ``reproduce --help`` are made from it.
 KEY_HELP = {
-    "model": "classifier: convlstm (silicone5), ofnn or dinov2nn (shore9), or contact_profile_nn "
-             "(ContactProfileFeatures of the whole video + an MC-dropout MLP, standardised per run)",
+    "model": "classifier: convlstm (silicone5), ofnn or dinov2nn (shore9), contact_profile_nn "
+             "(ContactProfileFeatures of the whole video + an MC-dropout MLP, standardised per run) or "
+             "contact_profile (the same features + a logistic regression sampled from its Laplace "
+             "posterior; refitted at each iteration, epochs, lr, dropout and batch_size do not apply)",
     "n_initial": "s0: presses per reference object in the initial training set",
     "n_per_query": "s: presses of the queried object added per iteration",
     "n_iterations": "N: active-sampling iterations",

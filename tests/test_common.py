@@ -51,6 +51,7 @@ from sklearn_hardness.models import (
     EnsembleClassifier,
     FrameScaler,
     IntensityChannels,
+    LaplaceLogisticRegression,
     OFNNClassifier,
 )
 from sklearn_hardness.preprocessing import ContactFrameSelector
@@ -94,6 +95,7 @@ ESTIMATORS = {
         lambda: ContactProfileNNClassifier(hidden_units=16, lr=3e-2, max_epochs=5, batch_size=64, random_state=0),
         "table",
     ),
+    "LaplaceLogisticRegression": (LaplaceLogisticRegression, "table"),
     "ConvLSTMClassifier": (lambda: ConvLSTMClassifier(filters=(2,), max_epochs=2, random_state=0), "frames"),
     "EnsembleClassifier": (lambda: EnsembleClassifier(_ofnn(), n_estimators=2, random_state=0), "table"),
     "ActiveLearner": (

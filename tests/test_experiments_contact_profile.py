@@ -1,8 +1,9 @@
-"""The experiments' ``contact_profile_nn`` model (issue 20): active sampling on the features that carry over.
+"""The experiments' ``contact_profile_nn`` and ``contact_profile`` models (issue 20): active sampling on the features that carry over.
 
 ContactProfileFeatures of the whole press video (no frame selection), an
-MC-dropout MLP, and a per-feature standardisation fitted on each run's initial
-training presses only.
+MC-dropout MLP (``contact_profile_nn``) or a logistic regression sampled from
+its Laplace posterior (``contact_profile``), and a per-feature
+standardisation fitted on each run's initial training presses only.
 """
 
 import numpy as np
@@ -54,8 +55,9 @@ def test_standardisation_is_fitted_on_the_run_s_training_presses_only():
     assert _input_scaler(X[train], get_config("silicone5"), "ofnn") is None
 
 
-def test_object_disjoint_runs_with_contact_profile_nn_repeat(everyday, tmp_path):
-    kw = dict(strategies=("entropy", "random"), model="contact_profile_nn", n_runs=1, memory=tmp_path, verbose=0,
+@pytest.mark.parametrize("model", ["contact_profile_nn", "contact_profile"])
+def test_object_disjoint_runs_with_the_contact_profile_models_repeat(everyday, tmp_path, model):
+    kw = dict(strategies=("entropy", "random"), model=model, n_runs=1, memory=tmp_path, verbose=0,
               test_objects=["everyday-00-marble", "everyday-01-mug"], **SMALL)
     first = run_active_sampling(everyday, **kw)
     records = first.records
@@ -70,11 +72,29 @@ def test_object_disjoint_runs_with_contact_profile_nn_repeat(everyday, tmp_path)
     assert [r["queried"] for r in again.records] == [r["queried"] for r in records]
 
 
-def test_frame_settings_are_refused_for_contact_profile_nn():
-    with pytest.raises(ValueError, match="contact_profile_nn does not use"):
-        check_config(get_config("silicone5", model="contact_profile_nn", frame_size=(12, 16)))
-    with pytest.raises(ValueError, match="contact_profile_nn does not use"):
-        check_config(get_config("silicone5", model="contact_profile_nn", crop_contact=0.5))
+@pytest.mark.parametrize("model", ["contact_profile_nn", "contact_profile"])
+def test_frame_settings_are_refused_for_the_contact_profile_models(model):
+    with pytest.raises(ValueError, match=f"{model} does not use"):
+        check_config(get_config("silicone5", model=model, frame_size=(12, 16)))
+    with pytest.raises(ValueError, match=f"{model} does not use"):
+        check_config(get_config("silicone5", model=model, crop_contact=0.5))
+
+
+def test_contact_profile_is_the_laplace_logistic_head_without_net_settings():
+    from sklearn_hardness.experiments._models import make_estimator
+    from sklearn_hardness.models import LaplaceLogisticRegression
+
+    cfg = check_config(get_config("silicone5", model="contact_profile"))
+    est = make_estimator("contact_profile", cfg, seed=7, n_classes=3)
+    assert type(est) is LaplaceLogisticRegression
+    # the experiments weigh every class alike, as for the nets; the seed reaches the estimator
+    assert (est.class_weight, est.random_state, est.max_iter) == (None, 7, 2000)
+    with pytest.raises(ValueError, match="n_ensemble applies to the nets"):
+        check_config(get_config("silicone5", model="contact_profile", n_ensemble=3))
+    # the same cached features as contact_profile_nn: one feature file serves both
+    from sklearn_hardness.experiments._models import feature_params
+
+    assert feature_params(cfg, "contact_profile") == feature_params(cfg, "contact_profile_nn")
 
 
 def test_features_of_a_preset_are_cached_on_disk(tmp_path):

@@ -12,7 +12,12 @@ from sklearn.linear_model import LogisticRegression
 from sklearn.model_selection import StratifiedKFold, cross_val_score
 
 from sklearn_hardness.experiments import evaluate_pipelines, format_evaluation, make_peak_change_baseline
-from sklearn_hardness.models import ContactProfileNNClassifier, MCDropoutPipeline, make_contact_profile_pipeline
+from sklearn_hardness.models import (
+    ContactProfileNNClassifier,
+    LaplaceLogisticRegression,
+    MCDropoutPipeline,
+    make_contact_profile_pipeline,
+)
 
 from ._synthetic import growing_disc_press
 
@@ -46,7 +51,7 @@ def test_nn_head_separates_what_the_peak_change_cannot(slow_and_fast):
     assert cross_val_score(make_peak_change_baseline(), X, y, cv=cv).mean() <= 0.75
 
 
-def test_nn_head_gives_mc_dropout_samples_the_logistic_head_does_not(slow_and_fast):
+def test_both_heads_give_samples_mc_dropout_and_laplace(slow_and_fast):
     X, y = slow_and_fast
     pipe = make_contact_profile_pipeline(random_state=0).fit(X, y)
     samples = pipe.predict_proba_samples(X[:6], n_samples=20, random_state=0)
@@ -55,9 +60,15 @@ def test_nn_head_gives_mc_dropout_samples_the_logistic_head_does_not(slow_and_fa
     assert samples.std(axis=0).max() > 1e-3  # dropout is on: the passes differ
     np.testing.assert_allclose(pipe.predict_proba_samples(X[:6], n_samples=20, random_state=0), samples)
     logistic = make_contact_profile_pipeline(head="logistic").fit(X, y)
-    assert isinstance(logistic.named_steps["clf"], LogisticRegression)
-    assert logistic.named_steps["clf"].max_iter == 2000
-    assert not hasattr(logistic, "predict_proba_samples")
+    clf = logistic.named_steps["clf"]
+    assert isinstance(clf, LaplaceLogisticRegression) and isinstance(clf, LogisticRegression)
+    assert (clf.max_iter, clf.class_weight) == (2000, "balanced")
+    # the fit is scikit-learn's: the same probabilities as a plain LogisticRegression
+    plain = make_contact_profile_pipeline(head="logistic")
+    plain.steps[-1] = ("clf", LogisticRegression(max_iter=2000, class_weight="balanced"))
+    np.testing.assert_allclose(logistic.predict_proba(X), plain.fit(X, y).predict_proba(X))
+    laplace = logistic.predict_proba_samples(X[:6], n_samples=20, random_state=0)
+    assert laplace.shape == (20, 6, 2) and laplace.std(axis=0).max() > 1e-3
 
 
 def test_parameters_reach_their_steps_and_clone():
@@ -86,22 +97,29 @@ def test_contact_profile_nn_runs_by_name_in_evaluate():
     assert len({row.index(" 0.") if " 0." in row else row.index(" 1.") for row in rows}) == 1
 
 
-def test_active_learner_runs_on_the_pipeline_from_videos():
+@pytest.mark.parametrize("head, n_per_object, learner_params", [
+    # the presses differ only in loading speed: the other features are standardised pixel noise, and 9
+    # presses are one Adam step per epoch; 60 steps train the head on any of seeds 0-3 (30 did on two)
+    ("nn", 8, {"initial_epochs": 60, "epochs_per_query": 10}),
+    # refitted per query; its queries read the samples of its Laplace posterior (10 presses per object:
+    # it asks for the test object's speed twice, which 8 would not hold)
+    ("logistic", 10, {}),
+])
+def test_active_learner_runs_on_the_pipeline_from_videos(head, n_per_object, learner_params):
     """Active sampling (Algorithm 1) with the contact-profile pipeline: videos in, a right decision out."""
     from sklearn_hardness.active import ActiveLearner, PressOracle
 
     rng = np.random.default_rng(0)
-    y = np.repeat([0, 1, 2], 8)  # three loading speeds
+    y = np.repeat([0, 1, 2], n_per_object)  # three loading speeds
     X = np.stack([growing_disc_press([3, 15, 30][c], 7, rng, n=45, start=10) for c in y])
     oracle = PressOracle(X, y, random_state=0)
     X_test, y_test = oracle.press(2, 4)
-    # the presses differ only in loading speed: the other features are standardised pixel noise, and 9
-    # presses are one Adam step per epoch; 60 steps train the head on any of seeds 0-3 (30 did on two)
-    learner = ActiveLearner(make_contact_profile_pipeline(random_state=0), "entropy", initial_epochs=60,
-                            epochs_per_query=10, n_mc_samples=8, random_state=0).fit(*oracle.initial(3))
+    pipe = make_contact_profile_pipeline(head=head, **({"random_state": 0} if head == "nn" else {}))
+    learner = ActiveLearner(pipe, "entropy", n_mc_samples=8, random_state=0, **learner_params)
+    learner.fit(*oracle.initial(3))
     for _ in range(2):
         idx, scores = learner.query(X_test)
-        assert scores.shape == (3,)
+        assert scores.shape == (3,) and np.ptp(scores) > 0  # the samples tell the objects apart
         learner.teach(*oracle.press(learner.classes_[idx[0]], 2))
     assert learner.n_presses_ == 4
     assert learner.score(X_test, y_test) == 1.0

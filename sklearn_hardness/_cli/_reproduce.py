@@ -250,13 +250,18 @@ def _run_reproduce(args):
     rows = comparison_table(result)
     n_it = cfg["n_iterations"]
     table = format_table(rows, mae_unit=cfg.get("hardness_unit"))
+    if cfg["model"] == "contact_profile":  # a logistic regression refitted per iteration: no epochs or dropout
+        training = (f"M={cfg['max_reservoir']}, refitted per iteration, n_test={cfg['n_test']}, "
+                    f"Laplace posterior samples={cfg['n_mc_samples']}")
+    else:
+        training = (
+            f"e0={cfg['initial_epochs']}, e={cfg['epochs_per_query']}, M={cfg['max_reservoir']}, "
+            f"dropout={cfg['dropout']}, n_test={cfg['n_test']}, MC passes={cfg['n_mc_samples']}"
+            + (f", frames={cfg['frame_size'][0]}x{cfg['frame_size'][1]}" if cfg.get("frame_size") else "")
+            + (f", early stopping={cfg['early_stopping']}" if cfg.get("early_stopping") else ", every epoch"))
     header = (
         f"{cfg['dataset']} ({cfg['preset']} settings, {cfg['protocol']} protocol): {cfg['model']}, "
-        f"s0={cfg['n_initial']}, s={cfg['n_per_query']}, N={n_it}, "
-        f"e0={cfg['initial_epochs']}, e={cfg['epochs_per_query']}, M={cfg['max_reservoir']}, "
-        f"dropout={cfg['dropout']}, n_test={cfg['n_test']}, MC passes={cfg['n_mc_samples']}"
-        + (f", frames={cfg['frame_size'][0]}x{cfg['frame_size'][1]}" if cfg.get("frame_size") else "")
-        + (f", early stopping={cfg['early_stopping']}" if cfg.get("early_stopping") else ", every epoch")
+        f"s0={cfg['n_initial']}, s={cfg['n_per_query']}, N={n_it}, " + training
         + (" [quick]" if args.quick else "")
     )
     note = (

@@ -178,11 +178,16 @@ def check_config(cfg):
             f"dropout_placement={cfg['dropout_placement']!r} applies to the ConvLSTM only, but the model is "
             f"{cfg.get('model')!r}; leave it at 'head' or use model='convlstm'."
         )
-    if cfg.get("model") == "contact_profile_nn" and any(
+    if cfg.get("model") in ("contact_profile_nn", "contact_profile") and any(
             cfg.get(k) is not None for k in ("frame_size", "color", "crop_contact")):
         raise ValueError(
-            "frame_size, color and crop_contact select contact frames, which contact_profile_nn does not "
+            f"frame_size, color and crop_contact select contact frames, which {cfg['model']} does not "
             "use (ContactProfileFeatures read the whole video); leave them at None."
+        )
+    if cfg.get("model") == "contact_profile" and cfg["n_ensemble"]:
+        raise ValueError(
+            "n_ensemble applies to the nets; contact_profile's samples come from the Laplace posterior of "
+            "its logistic regression. Leave n_ensemble at 0."
         )
     if cfg["n_ensemble"] == 1:
         raise ValueError("n_ensemble must be 0 (MC dropout) or at least 2 members, got 1.")
@@ -242,7 +247,8 @@ _LATER_KEYS = {"n_ensemble": 0, "device": "cpu", "early_stopping": None, "crop_c
 #: The frame size ``frame_size=None`` meant in the hash, per :func:`_input_name` (before
 #: check_config wrote the size out and the ConvLSTM's default became 12x16): hashed as None,
 #: so results files made then stay resumable under the same frames.
-_SIZES_HASHED_AS_NONE = {"convlstm": (18, 24), "ofnn": (120, 160), "dinov2nn": (112, 150), "contact_profile_nn": None}
+_SIZES_HASHED_AS_NONE = {"convlstm": (18, 24), "ofnn": (120, 160), "dinov2nn": (112, 150), "contact_profile_nn": None,
+                         "contact_profile": None}
 
 
 def config_hash(config):

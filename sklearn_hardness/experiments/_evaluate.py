@@ -197,9 +197,12 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     pipelines : dict, list of str or None, default=None
         ``{name: estimator}``, or names among ``"peak_change"``,
         ``"contact_profile"`` (:class:`~sklearn_hardness.features.ContactProfileFeatures`
-        + balanced logistic regression), ``"contact_profile_nn"`` (the same
-        features + :class:`~sklearn_hardness.models.ContactProfileNNClassifier`,
-        which has ``predict_proba_samples``), ``"convlstm"``, ``"ofnn"``,
+        + balanced logistic regression,
+        :class:`~sklearn_hardness.models.LaplaceLogisticRegression`, whose
+        ``predict_proba_samples`` come from its Laplace posterior),
+        ``"contact_profile_nn"`` (the same features +
+        :class:`~sklearn_hardness.models.ContactProfileNNClassifier`, MC
+        dropout), ``"convlstm"``, ``"ofnn"``,
         ``"dinov2nn"`` (the ready-made pipelines of
         :mod:`sklearn_hardness.models`, built by their ``make_*_pipeline``
         factories, the ConvLSTM with ``intensity_channels=True``).
@@ -466,6 +469,8 @@ def _recommendation_lines(result):
     lines.append(f"Choose {best}: the highest balanced accuracy among the pipelines above the baseline.")
     if sampled is not None and sampled != best:
         lines.append(f"For active sampling (predict_proba_samples): {sampled}.")
+    elif sampled == best:
+        lines.append(f"{best} has predict_proba_samples: it drives active sampling too.")
     elif sampled is None:
         lines.append("No pipeline above the baseline has predict_proba_samples for active sampling.")
     return lines

@@ -1,7 +1,7 @@
 """The experiments' named models, built by the public ``make_*_pipeline`` factories.
 
-One place decides what a model named ``"convlstm"``, ``"ofnn"``, ``"dinov2nn"``
-or ``"contact_profile_nn"`` is: its factory in :mod:`sklearn_hardness.models`.
+One place decides what a model named ``"convlstm"``, ``"ofnn"``, ``"dinov2nn"``,
+``"contact_profile_nn"`` or ``"contact_profile"`` is: its factory in :mod:`sklearn_hardness.models`.
 The experiments take the factory's pipeline apart: its ``"frames"`` step
 (contact-frame selection) and its frozen ``"features"`` step run once per
 dataset (:mod:`._data` caches them), and its ``"clf"`` step is the net each
@@ -27,6 +27,7 @@ FACTORIES = {
     "ofnn": models.make_ofnn_pipeline,
     "dinov2nn": models.make_dinov2nn_pipeline,
     "contact_profile_nn": models.make_contact_profile_pipeline,
+    "contact_profile": models.make_contact_profile_pipeline,
 }
 
 #: Where the experiments depart from the factories' defaults (which are for a user's own,
@@ -44,7 +45,11 @@ PAPER_CHOICES = {
     "ofnn": {"flow_output": "tracks", "class_weight": None},
     "dinov2nn": {},
     "contact_profile_nn": {"head": "nn", "class_weight": None},
+    "contact_profile": {"head": "logistic", "class_weight": None},
 }
+
+#: Named models that read ContactProfileFeatures of the whole video (no frame selection).
+CONTACT_PROFILE_MODELS = ("contact_profile_nn", "contact_profile")
 
 
 def input_name(model):
@@ -61,7 +66,7 @@ def default_frame_size(model):
 def model_pipeline(name, cfg, **classifier_params):
     """The factory's pipeline of a named model, with the experiments' choices and ``cfg``'s input settings."""
     kwargs = dict(PAPER_CHOICES[name], **classifier_params)
-    if name == "contact_profile_nn":
+    if name in CONTACT_PROFILE_MODELS:
         kwargs["max_side"] = 80
     else:
         kwargs["n_between"] = int(cfg["n_between"])
@@ -125,7 +130,7 @@ def feature_params(cfg, model):
         return {"kind": "optical_flow", "n_features": int(step.n_features)}
     if model == "dinov2nn":
         return {"kind": "dinov2", "model": step.model}
-    if model == "contact_profile_nn":
+    if model in CONTACT_PROFILE_MODELS:
         return {"kind": "contact_profile", "max_side": int(step.max_side)}
     return None
 
@@ -133,6 +138,10 @@ def feature_params(cfg, model):
 def make_estimator(model, cfg, seed, n_classes, dropout=None):
     """A fresh classifier for one run: a named model's net from its factory, or a seeded clone."""
     dropout = cfg["dropout"] if dropout is None else dropout
+    if model == "contact_profile":
+        # a logistic regression, refitted on all its presses at each iteration: no epochs, learning
+        # rate, dropout or batches; its samples come from the Laplace posterior
+        return model_pipeline(model, cfg, random_state=int(seed)).named_steps["clf"]
     if isinstance(model, str):
         kwargs = dict(dropout=float(dropout), lr=cfg["lr"], random_state=int(seed),
                       classes=np.arange(n_classes), max_epochs=int(cfg["initial_epochs"]),

@@ -9,6 +9,9 @@
   ConvLSTM's training batches.
 * :class:`EnsembleClassifier`: differently seeded copies of a classifier, whose
   spread replaces MC dropout as the source of ``predict_proba_samples``.
+* :class:`LaplaceLogisticRegression`: scikit-learn's logistic regression with
+  ``predict_proba_samples`` from the Laplace approximation of its posterior
+  (the contact-profile pipeline's logistic head).
 * :class:`StackedConvLSTMNet`: K independent nets stepped as one module
   (``torch.func.vmap``), for ensembles and many small runs on a GPU.
 
@@ -25,6 +28,7 @@ from ._convergence import chance_scaled_threshold, check_convergence, is_converg
 from ._convlstm import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
 from ._ensemble import EnsembleClassifier
 from ._intensity_channels import IntensityChannels
+from ._laplace import LaplaceLogisticRegression
 from ._mc_dropout import MCDropoutClassifierBase
 from ._mc_sampling import MCDropout
 from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, MLPHead, OFNNClassifier
@@ -52,6 +56,7 @@ __all__ = [
     "ContactProfileNNClassifier",
     "ConvLSTMClassifier",
     "EnsembleClassifier",
+    "LaplaceLogisticRegression",
     "MLPHead",
     "ConvLSTMNet",
     "ConvLSTMLayer",

@@ -17,7 +17,6 @@ from sklearn.pipeline import Pipeline
 from sklearn.utils.metaestimators import available_if
 from sklearn.utils.validation import check_is_fitted
 
-from sklearn.linear_model import LogisticRegression
 from sklearn.preprocessing import StandardScaler
 
 from ..features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
@@ -27,6 +26,7 @@ from ..utils._validation import check_frames_array
 from ._augmentation import FrameAugmenter
 from ._convlstm import ConvLSTMClassifier
 from ._intensity_channels import INTENSITY_STATS, IntensityChannels
+from ._laplace import LaplaceLogisticRegression
 from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
 
 __all__ = [
@@ -312,9 +312,12 @@ def make_contact_profile_pipeline(*, head="nn", max_side=80, **classifier_params
     head : {"nn", "logistic"}, default="nn"
         ``"nn"``: :class:`ContactProfileNNClassifier`, an MLP with MC dropout,
         so the pipeline has :meth:`~MCDropoutPipeline.predict_proba_samples`
-        and drives active sampling. ``"logistic"``: balanced
-        :class:`~sklearn.linear_model.LogisticRegression` (no samples; what
-        ``evaluate``'s ``"contact_profile"`` runs).
+        and drives active sampling. ``"logistic"``: balanced logistic
+        regression, :class:`LaplaceLogisticRegression` (scikit-learn's
+        :class:`~sklearn.linear_model.LogisticRegression`, whose
+        ``predict_proba_samples`` draws from the Laplace approximation of its
+        posterior, so it drives active sampling too; what ``evaluate``'s
+        ``"contact_profile"`` runs).
     max_side : int, default=80
         ``max_side`` of :class:`~sklearn_hardness.features.ContactProfileFeatures`.
     **classifier_params
@@ -350,6 +353,6 @@ def make_contact_profile_pipeline(*, head="nn", max_side=80, **classifier_params
         clf = ContactProfileNNClassifier(**classifier_params)
     else:
         classifier_params.setdefault("max_iter", 2000)
-        clf = LogisticRegression(**classifier_params)
+        clf = LaplaceLogisticRegression(**classifier_params)
     return MCDropoutPipeline([("features", ContactProfileFeatures(max_side=max_side)),
                               ("scale", StandardScaler()), ("clf", clf)])
