@@ -117,6 +117,7 @@ class LaplaceLogisticRegression(LogisticRegression):
     def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
         tags.input_tags.sparse = False
+        tags.array_api_support = False  # the posterior and its samples are computed with numpy
         return tags
 
     def _check_gaussian_prior(self):
