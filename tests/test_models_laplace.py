@@ -131,6 +131,16 @@ def test_what_is_not_a_gaussian_posterior_is_refused(params, match):
         LaplaceLogisticRegression(**params).fit(X, y)
 
 
+def test_invalid_parameters_get_scikit_learn_s_message_first():
+    from sklearn.utils._param_validation import InvalidParameterError
+
+    X, y = _data(30, 2, np.random.default_rng(0))
+    with pytest.raises(InvalidParameterError, match="'C' parameter"):
+        LaplaceLogisticRegression(C="one").fit(X, y)
+    with pytest.raises(InvalidParameterError, match="'solver' parameter"):
+        LaplaceLogisticRegression(solver="bogus").fit(X, y)
+
+
 def test_sampling_checks_its_arguments_and_the_fit():
     X, y = _data(30, 2, np.random.default_rng(0))
     from sklearn.exceptions import NotFittedError

@@ -107,6 +107,7 @@ class LaplaceLogisticRegression(LogisticRegression):
         -------
         self : LaplaceLogisticRegression
         """
+        self._validate_params()  # scikit-learn's own messages for a bad C, solver, ... before ours
         self._check_gaussian_prior()
         X = validate_data(self, X, dtype=np.float64)  # dense: the Hessian is a dense matrix anyway
         super().fit(X, y, sample_weight=sample_weight)
