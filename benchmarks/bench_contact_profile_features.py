@@ -24,8 +24,17 @@ course might get more), the second what force and displacement tell.
 Beside them, how well each video feature measures its ideal counterpart
 (Spearman correlation over the presses with contact).
 
+``--heads`` adds a third table: the twelve features with other heads on the
+same folds (standardised features; balanced class weights throughout): the
+logistic regression of ``make_contact_profile_pipeline(head="logistic")`` at
+its default ``C=1`` and at ``C`` 0.1 and 10; the MC-dropout MLP of
+``head="nn"`` (:class:`~sklearn_hardness.models.ContactProfileNNClassifier`
+with its defaults, ``random_state=seed``); and two non-linear heads of
+scikit-learn, a random forest and gradient boosting. Whether a head more
+flexible than a linear one finds more in the features.
+
     python benchmarks/bench_contact_profile_features.py [--seeds 0 1 2 3 4] [--n-jobs 2]
-        [--variant NAME] [--param NAME=VALUE ...] [--out FILE]
+        [--variant NAME] [--param NAME=VALUE ...] [--heads] [--out FILE]
 
 Prints a markdown table (one column per seed and the mean), the correlations,
 time and peak memory; ``--out`` writes the same text with a provenance line. The ideal rows use the renderer's private profile
@@ -91,13 +100,33 @@ def ideal_features(data):
     return np.asarray(rows)
 
 
-def scores(X, y, folds):
-    """Balanced accuracy per fold of a balanced logistic regression on standardised ``X``."""
-    model = make_pipeline(StandardScaler(), LogisticRegression(max_iter=2000, class_weight="balanced"))
+def scores(X, y, folds, model=None):
+    """Balanced accuracy per fold of ``model`` (default: a balanced logistic regression) on standardised ``X``."""
+    model = make_pipeline(StandardScaler(), model if model is not None else LogisticRegression(
+        max_iter=2000, class_weight="balanced"))
     return [balanced_accuracy_score(y[te], model.fit(X[tr], y[tr]).predict(X[te])) for tr, te in folds]
 
 
-def run_seed(seed, overrides, n_jobs):
+def heads(seed):
+    """``--heads``: name -> unfitted head (standardised input; balanced class weights)."""
+    from sklearn.ensemble import HistGradientBoostingClassifier, RandomForestClassifier
+
+    from sklearn_hardness.models import ContactProfileNNClassifier
+
+    def logistic(C):
+        return LogisticRegression(C=C, max_iter=2000, class_weight="balanced")
+
+    return {'logistic, C=1 (head="logistic")': logistic(1.0),
+            "logistic, C=0.1": logistic(0.1),
+            "logistic, C=10": logistic(10.0),
+            'MC-dropout MLP (head="nn")': ContactProfileNNClassifier(class_weight="balanced", random_state=seed),
+            "random forest (300 trees, leaves >= 5)": RandomForestClassifier(
+                300, min_samples_leaf=5, class_weight="balanced", random_state=seed),
+            "gradient boosting (depth 3, 200 rounds)": HistGradientBoostingClassifier(
+                max_depth=3, learning_rate=0.05, max_iter=200, class_weight="balanced", random_state=seed)}
+
+
+def run_seed(seed, overrides, n_jobs, with_heads=False):
     from sklearn_hardness.datasets import make_presses
 
     data = make_presses("everyday", return_mechanics=True, random_state=seed, **overrides)
@@ -118,13 +147,17 @@ def run_seed(seed, overrides, n_jobs):
         ROWS[3]: scores(np.nan_to_num(ideal[:, :3]), y, ideal_folds),
         ROWS[4]: scores(np.nan_to_num(ideal[:, 3:]), y, ideal_folds),
     }
+    head_scores = {}
+    if with_heads:
+        head_scores = {name: float(np.mean(scores(V[:, 1:], y, folds, model)))
+                       for name, model in heads(seed).items()}
     c = contact
     corr = {"gel depth ~ log_peak_change": spearmanr(ideal[c, 0], V[c, 1])[0],
             "contact area ~ area_at_peak": spearmanr(ideal[c, 1], V[c, 6])[0],
             "contact area ~ log_contact_spread": spearmanr(ideal[c, 1], V[c, 12])[0],
             "loading time ~ rise_frames": spearmanr(ideal[c, 2], V[c, 3])[0],
             "loading time ~ log_loading_time": spearmanr(ideal[c, 2], V[c, 11])[0]}
-    return {k: float(np.mean(v)) for k, v in out.items()}, corr, int(contact.sum()), len(y)
+    return {k: float(np.mean(v)) for k, v in out.items()}, corr, int(contact.sum()), len(y), head_scores
 
 
 def main(argv=None):
@@ -133,12 +166,13 @@ def main(argv=None):
     ap.add_argument("--n-jobs", type=int, default=2)
     ap.add_argument("--variant", choices=sorted(VARIANTS), default=None)
     ap.add_argument("--param", type=parse_param, action="append", default=[])
+    ap.add_argument("--heads", action="store_true", help="also score the twelve features with other heads")
     ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
     args = ap.parse_args(argv)
     overrides = variant_params(args.variant, args.param)
     reset_peak()
     t0 = time.perf_counter()
-    results = [run_seed(s, overrides, args.n_jobs) for s in args.seeds]
+    results = [run_seed(s, overrides, args.n_jobs, args.heads) for s in args.seeds]
     seconds = time.perf_counter() - t0
     lines = [f"everyday preset{f' (variant {args.variant})' if args.variant else ''}"
              f"{f', overrides {overrides}' if overrides else ''}: balanced accuracy, object-disjoint 5 folds, "
@@ -153,6 +187,13 @@ def main(argv=None):
               "|---" * (len(args.seeds) + 1) + "|"]
     for name in results[0][1]:
         lines.append(f"| {name} | " + " | ".join(f"{r[1][name]:.2f}" for r in results) + " |")
+    if args.heads:
+        lines += ["", "The twelve features with other heads (same folds, standardised features, balanced class weights)", "",
+                  "| head | " + " | ".join(f"seed {s}" for s in args.seeds) + " | mean |",
+                  "|---" * (len(args.seeds) + 2) + "|"]
+        for name in results[0][4]:
+            vals = [r[4][name] for r in results]
+            lines.append(f"| {name} | " + " | ".join(f"{v:.2f}" for v in vals) + f" | {np.mean(vals):.3f} |")
     lines += ["", "presses with contact (ideal rows): " + ", ".join(f"{r[2]} of {r[3]}" for r in results),
               "", f"{seconds:.1f} s, peak memory {peak_rss_mb():.0f} MB"]
     text = "\n".join(lines)

@@ -356,7 +356,7 @@ def test_contact_profile_pipelines_share_their_features_per_fold(tiny, monkeypat
     # the same figures as two pipelines that each compute their own (a user's dict is left as given)
     calls.clear()
     own = evaluate_pipelines(tiny, {"contact_profile": make_contact_profile_pipeline(head="logistic"),
-                                    "contact_profile_nn": make_contact_profile_pipeline(random_state=0)},
+                                    "contact_profile_nn": make_contact_profile_pipeline(head="nn", random_state=0)},
                              cv=3, baseline=False, verbose=0)
     assert len(calls) == 6
     for name in names:

@@ -42,7 +42,7 @@ def slow_and_fast():
 def test_nn_head_separates_what_the_peak_change_cannot(slow_and_fast):
     X, y = slow_and_fast
     cv = StratifiedKFold(3, shuffle=True, random_state=0)
-    pipe = make_contact_profile_pipeline(random_state=0)
+    pipe = make_contact_profile_pipeline(head="nn", random_state=0)
     assert isinstance(pipe, MCDropoutPipeline)
     assert isinstance(pipe.named_steps["clf"], ContactProfileNNClassifier)
     assert pipe.named_steps["clf"].class_weight == "balanced"
@@ -53,7 +53,7 @@ def test_nn_head_separates_what_the_peak_change_cannot(slow_and_fast):
 
 def test_both_heads_give_samples_mc_dropout_and_laplace(slow_and_fast):
     X, y = slow_and_fast
-    pipe = make_contact_profile_pipeline(random_state=0).fit(X, y)
+    pipe = make_contact_profile_pipeline(head="nn", random_state=0).fit(X, y)
     samples = pipe.predict_proba_samples(X[:6], n_samples=20, random_state=0)
     assert samples.shape == (20, 6, 2)
     np.testing.assert_allclose(samples.sum(axis=-1), 1.0, rtol=1e-5)
@@ -72,15 +72,32 @@ def test_both_heads_give_samples_mc_dropout_and_laplace(slow_and_fast):
 
 
 def test_parameters_reach_their_steps_and_clone():
-    pipe = make_contact_profile_pipeline(max_side=40, hidden_units=8, dropout=0.5, class_weight=None)
+    pipe = make_contact_profile_pipeline(head="nn", max_side=40, hidden_units=8, dropout=0.5, class_weight=None)
     assert pipe.named_steps["features"].max_side == 40
     clf = pipe.named_steps["clf"]
     assert (clf.hidden_units, clf.dropout, clf.class_weight) == (8, 0.5, None)
     assert clone(pipe).get_params()["clf__hidden_units"] == 8
     defaults = ContactProfileNNClassifier()
     assert (defaults.hidden_units, defaults.lr, defaults.max_epochs) == (64, 3e-3, 100)
-    with pytest.raises(ValueError, match="head must be 'nn' or 'logistic'"):
+    with pytest.raises(ValueError, match="head must be 'logistic' or 'nn'"):
         make_contact_profile_pipeline(head="svm")
+
+
+def test_default_head_is_the_logistic_one_and_misplaced_parameters_are_named():
+    """The default is the head measured on real recordings; a parameter of the other head gets a clear error."""
+    pipe = make_contact_profile_pipeline(C=0.5, random_state=0)
+    assert isinstance(pipe.named_steps["clf"], LaplaceLogisticRegression)
+    assert (pipe.named_steps["clf"].C, pipe.named_steps["clf"].class_weight) == (0.5, "balanced")
+    assert pipe.get_params()["clf__C"] == 0.5
+    with pytest.raises(TypeError, match=r"head='logistic' .* \['max_epochs'\]; \['max_epochs'\] belong to head='nn'"):
+        make_contact_profile_pipeline(max_epochs=20)
+    with pytest.raises(TypeError, match=r"head='nn' .* \['C'\]; \['C'\] belong to head='logistic'"):
+        make_contact_profile_pipeline(head="nn", C=1.0)
+    with pytest.raises(TypeError, match=r"takes no parameter\(s\) \['hidden_unit'\]\.$"):
+        make_contact_profile_pipeline(head="nn", hidden_unit=8)
+    # skorch's routed parameters pass through to the net, which checks them itself
+    net = make_contact_profile_pipeline(head="nn", optimizer__weight_decay=1e-3).named_steps["clf"]
+    assert net.optimizer__weight_decay == 1e-3
 
 
 def test_contact_profile_nn_runs_by_name_in_evaluate():
@@ -114,7 +131,7 @@ def test_active_learner_runs_on_the_pipeline_from_videos(head, n_per_object, lea
     X = np.stack([growing_disc_press([3, 15, 30][c], 7, rng, n=45, start=10) for c in y])
     oracle = PressOracle(X, y, random_state=0)
     X_test, y_test = oracle.press(2, 4)
-    pipe = make_contact_profile_pipeline(head=head, **({"random_state": 0} if head == "nn" else {}))
+    pipe = make_contact_profile_pipeline(head=head, random_state=0)
     learner = ActiveLearner(pipe, "entropy", n_mc_samples=8, random_state=0, **learner_params)
     learner.fit(*oracle.initial(3))
     for _ in range(2):

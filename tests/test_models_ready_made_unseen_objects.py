@@ -72,7 +72,7 @@ def test_ready_made_nets_beat_the_one_number_baseline_on_unseen_objects(everyday
     convlstm = _cv(make_pipeline(FrameScaler(), IntensityChannels(), ConvLSTMClassifier(**net)), frames, y, groups)
     ofnn = _cv(OFNNClassifier(**net), flow["magnitude_quantiles"], y, groups)
     ofnn_paper = _cv(OFNNClassifier(**net), flow["tracks"], y, groups)
-    contact_profile_nn = _cv(make_contact_profile_pipeline(random_state=0)[1:], profile, y, groups)
+    contact_profile_nn = _cv(make_contact_profile_pipeline(head="nn", random_state=0)[1:], profile, y, groups)
     scores = dict(baseline=baseline, convlstm=convlstm, ofnn=ofnn, ofnn_paper=ofnn_paper,
                   contact_profile_nn=contact_profile_nn)
     assert contact_profile_nn >= baseline + 0.10, scores

@@ -22,6 +22,7 @@ from .._experiment_names import KEY_HELP as _KEY_HELP
 from .._experiment_names import MODEL_NAMES, QUICK_OVERRIDES
 from ..models import chance_scaled_threshold
 from ..utils._param_validation import FRAME_SIZE
+from ._models import CONTACT_PROFILE_MODELS as _CONTACT_PROFILE_MODELS
 from ._models import default_frame_size
 from ._models import input_name as _input_name
 
@@ -178,7 +179,7 @@ def check_config(cfg):
             f"dropout_placement={cfg['dropout_placement']!r} applies to the ConvLSTM only, but the model is "
             f"{cfg.get('model')!r}; leave it at 'head' or use model='convlstm'."
         )
-    if cfg.get("model") in ("contact_profile_nn", "contact_profile") and any(
+    if cfg.get("model") in _CONTACT_PROFILE_MODELS and any(
             cfg.get(k) is not None for k in ("frame_size", "color", "crop_contact")):
         raise ValueError(
             f"frame_size, color and crop_contact select contact frames, which {cfg['model']} does not "

@@ -124,7 +124,7 @@ def _features(frames, feature_params):
 
 def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=None):
     data = load_dataset(dataset, cfg)
-    if frame_params is None:  # features of the whole videos (contact_profile_nn), no frame selection
+    if frame_params is None:  # contact_profile(_nn): features of the whole videos, no frame selection
 
         X = ContactProfileFeatures(max_side=feature_params["max_side"], n_jobs=n_jobs).fit_transform(
             data["videos"]).astype(np.float32)

@@ -51,7 +51,7 @@ def _named_pipeline(name, seed=None):
     if name == "contact_profile":
         return models.make_contact_profile_pipeline(head="logistic")
     if name == "contact_profile_nn":
-        return models.make_contact_profile_pipeline(random_state=seed)
+        return models.make_contact_profile_pipeline(head="nn", random_state=seed)
     if name == "convlstm":
         # the test objects are never seen in training here: the input that carries over to them
         return models.make_convlstm_pipeline(intensity_channels=True, random_state=seed)
