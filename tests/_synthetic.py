@@ -57,3 +57,24 @@ def growing_disc_press(rise, radius, rng, n=60, start=15, level=40):
         video[t][(yy - 16) ** 2 + (xx - 16) ** 2 <= r * r] += level
     video += rng.normal(0, 1.0, video.shape)
     return np.clip(video, 0, 255).astype(np.uint8)
+
+
+#: Where the gel lies in the frames of :func:`framed_press`: rows 8-40 of 48, columns 16-48 of 64
+#: (``roi`` fractions: top, bottom, left, right).
+FRAMED_GEL = (8 / 48, 40 / 48, 0.25, 0.75)
+
+
+def framed_press(press, rng):
+    """``press`` (T, 32, 32, 3) on the gel of a 48x64 frame whose rest brightens at a random time and speed.
+
+    Like a GelSight Wedge grasp, whose frame shows the housing and the other
+    finger: a change that has nothing to do with the object.
+    """
+    n = len(press)
+    frame = np.full((n, 48, 64, 3), 90.0) + rng.normal(0, 1.0, (n, 48, 64, 3))
+    start, rise = int(rng.integers(5, 40)), int(rng.integers(1, 40))
+    for t in range(start, n):
+        frame[t] += 60 * min(1.0, (t - start + 1) / rise)
+    frame = np.clip(frame, 0, 255).astype(np.uint8)
+    frame[:, 8:40, 16:48] = press
+    return frame

@@ -65,6 +65,8 @@ WRONG_INVOCATIONS = {
     "unknown pipeline": ["evaluate", "everyday", "--pipelines", "svm"],
     "--cv 1": ["evaluate", "everyday", "--cv", "1"],
     "--n-jobs 0 (evaluate)": ["evaluate", "everyday", "--n-jobs", "0"],
+    "--roi upside down (evaluate)": ["evaluate", "everyday", "--roi", "0.9", "0.1", "0", "1"],
+    "--roi of three numbers (evaluate)": ["evaluate", "everyday", "--roi", "0.1", "0.9", "0"],
     "unknown strategy (benchmark)": ["benchmark", "--strategy", "foo"],
     "unknown --set key (benchmark)": ["benchmark", "--set", "n_iteration=2"],
     "--threads 0": ["benchmark", "--threads", "0"],
@@ -93,6 +95,7 @@ def test_error_lines_name_the_problem(tmp_path, capsys):
         (["reproduce", "--n-jobs", "0"], "argument --n-jobs: expected a non-zero integer"),
         (["select", "x.csv", "--threshold", "abc"], "expected 'auto' or a positive number, got 'abc'"),
         (["record", "--source", "97", "--label", "a", "--out", str(tmp_path / "r")], "camera 97"),
+        (["evaluate", "everyday", "--roi", "0.9", "0.1", "0", "1"], "top < bottom and left < right"),
     ]:
         with pytest.raises(SystemExit):
             main(argv)

@@ -12,6 +12,7 @@ from sklearn.preprocessing import FunctionTransformer
 from sklearn.utils import Bunch
 
 from sklearn_hardness._cli import main
+from sklearn_hardness._experiment_names import PIPELINE_NAMES
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.experiments import (
     evaluate_pipelines,
@@ -336,6 +337,32 @@ def test_peak_change_roi_measures_only_the_region():
     for bad in [(0.5, 0.2, 0, 1), (0, 1, 0), (0, 1.5, 0, 1), "top"]:
         with pytest.raises(ValueError, match="roi must be None or"):
             make_peak_change_baseline(roi=bad)
+
+
+def test_roi_reaches_the_baseline_and_every_named_pipeline():
+    """``evaluate --roi``: each pipeline reads the gel only; where the rest of the frame changes, that decides."""
+    from sklearn_hardness.experiments._evaluate import _named_pipeline
+
+    from ._synthetic import FRAMED_GEL, framed_press, growing_disc_press
+
+    for name in PIPELINE_NAMES:
+        params = _named_pipeline(name, 0, FRAMED_GEL).get_params()
+        read = [v for k, v in params.items() if k.endswith("__roi")] or [params["functiontransformer__kw_args"]["roi"]]
+        assert read == [FRAMED_GEL], name
+    rng = np.random.default_rng(1)
+    X, y = [], []
+    for i in range(30):  # soft presses load slowly, hard ones fast, beside a change of the housing
+        soft = i % 2
+        X.append(framed_press(growing_disc_press(int(rng.integers(25, 40)) if soft else int(rng.integers(2, 6)),
+                                                 float(rng.uniform(5, 9)), rng), rng))
+        y.append(soft)
+    data = Bunch(videos=X, target=np.array(y), target_names=np.array(["hard", "soft"]), object_id=np.arange(30))
+    on_gel = evaluate_pipelines(data, ["contact_profile"], cv=3, roi=FRAMED_GEL, verbose=0)
+    whole = evaluate_pipelines(data, ["contact_profile"], cv=3, verbose=0)
+    assert on_gel.table[1]["balanced_accuracy"] >= 0.9 > 0.6 >= whole.table[1]["balanced_accuracy"]
+    # a bad region is named before any data is read
+    with pytest.raises(ValueError, match="roi must be None or"):
+        evaluate_pipelines("/nonexistent/manifest.csv", [], roi=(0.9, 0.1, 0.0, 1.0))
 
 
 def test_contact_profile_pipelines_share_their_features_per_fold(tiny, monkeypatch):

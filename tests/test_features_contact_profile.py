@@ -12,7 +12,7 @@ from sklearn.utils._param_validation import InvalidParameterError
 from sklearn_hardness.experiments import evaluate_pipelines, peak_contact_change
 from sklearn_hardness.features import ContactProfileFeatures
 
-from ._synthetic import growing_disc_press
+from ._synthetic import FRAMED_GEL, framed_press, growing_disc_press
 
 
 def _press(rise, radius, rng):
@@ -99,6 +99,43 @@ def test_separates_what_the_peak_change_cannot():
     F = ContactProfileFeatures().fit_transform(X)
     assert cross_val_score(head, F, y, cv=3).mean() >= 0.9
     assert cross_val_score(head, peak_contact_change(X), y, cv=3).mean() <= 0.75
+
+
+def test_roi_reads_the_gel_only():
+    rng = np.random.default_rng(1)
+    gel, X, y = [], [], []
+    for i in range(30):
+        soft = i % 2
+        press = _press(int(rng.integers(25, 40)) if soft else int(rng.integers(2, 6)), float(rng.uniform(5, 9)), rng)
+        gel.append(press)
+        X.append(framed_press(press, rng))
+        y.append(soft)
+    y = np.array(y)
+    # the same features as on videos cropped to the region, strided or not
+    for max_side in (80, 16):
+        np.testing.assert_array_equal(ContactProfileFeatures(max_side=max_side, roi=FRAMED_GEL).fit_transform(X),
+                                      ContactProfileFeatures(max_side=max_side).fit_transform(gel))
+    # the effect: the loading speed is told on the gel, lost in the whole frame's change
+    head = make_pipeline(StandardScaler(), LogisticRegression())
+    assert cross_val_score(head, ContactProfileFeatures(roi=list(FRAMED_GEL)).fit_transform(X), y, cv=3).mean() >= 0.9
+    assert cross_val_score(head, ContactProfileFeatures().fit_transform(X), y, cv=3).mean() <= 0.6
+
+
+@pytest.mark.parametrize("roi, message", [
+    ((0.9, 0.1, 0.0, 1.0), "top < bottom and left < right"),
+    ((0.0, 1.0, 0.0), "top < bottom and left < right"),
+    ((0.0, 1.5, 0.0, 1.0), "fractions in \\[0, 1\\]"),
+    ((0.0, 1.0, "a", 1.0), "got \\(0.0, 1.0, 'a', 1.0\\)"),
+])
+def test_bad_roi_is_named(roi, message):
+    with pytest.raises(ValueError, match=message):
+        ContactProfileFeatures(roi=roi).fit([np.zeros((3, 8, 8, 3), np.uint8)])
+
+
+def test_roi_smaller_than_two_pixels_names_the_video():
+    videos = [np.zeros((3, 32, 32, 3), np.uint8), np.zeros((3, 8, 8, 3), np.uint8)]
+    with pytest.raises(ValueError, match="fewer than 2x2 pixels of the 8x8 frames of video 1"):
+        ContactProfileFeatures(roi=(0.0, 0.1, 0.0, 1.0)).fit_transform(videos)
 
 
 @pytest.mark.parametrize("params", [dict(max_side=2), dict(noise_factor=0), dict(noise_factor="3")])

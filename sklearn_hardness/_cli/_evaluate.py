@@ -42,6 +42,10 @@ def _add_evaluate(sub):
                    "the compute (default 1): the figures depend less on one assignment; the intervals "
                    "run over all repetitions' folds, corrected for their overlap, with the degrees of "
                    "freedom of one repetition (more objects narrow them, repetitions little)")
+    p.add_argument("--roi", nargs=4, type=float, default=None, metavar=("TOP", "BOTTOM", "LEFT", "RIGHT"),
+                   help="read only this region of the frames, as fractions of height and width (e.g. "
+                   "0.18 0.88 0.08 0.70), in the baseline and every pipeline: for sensors whose frame shows "
+                   "more than the gel (default: the whole frame)")
     p.add_argument("--out", default="hardness_evaluation",
                    help="folder for evaluation.json and confusion_matrices.png (default ./hardness_evaluation)")
     p.add_argument("--seed", type=_nonnegative_int, default=0, help="seed of the folds and of a preset (default 0)")
@@ -63,18 +67,21 @@ def _run_evaluate(args):
         plot_confusion_matrices,
         provenance_header,
     )
+    from ..utils._validation import check_roi
 
     _check_out_dir(args.out)
     if args.dataset not in _SIM_PRESETS and not os.path.exists(args.dataset):
         raise _UsageError(f"dataset {args.dataset!r} is neither a simulator preset ({', '.join(_SIM_PRESETS)}) "
                           "nor an existing manifest (a .csv file, or a folder holding manifest.csv)")
+    with _user_errors():
+        roi = check_roi(args.roi)
     if not args.quiet:
         repeats = f" x {args.n_repeats} repetitions" if args.n_repeats > 1 else ""
         print(f"evaluating {', '.join(args.pipelines) or 'the baseline'} on {args.dataset} "
               f"({args.cv} object-disjoint folds{repeats}) ...", file=sys.stderr, flush=True)
     with _user_errors():
         result = evaluate_pipelines(args.dataset, args.pipelines, cv=args.cv, n_repeats=args.n_repeats,
-                                    error_score=np.nan,
+                                    roi=roi, error_score=np.nan,
                                     n_jobs=args.n_jobs, random_state=args.seed, verbose=0 if args.quiet else 1)
     table = format_evaluation(result)
     print(table)

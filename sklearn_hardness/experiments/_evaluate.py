@@ -33,6 +33,7 @@ from ..datasets import load_press_videos, make_presses
 from ..datasets._sim_presets import PRESETS
 from ..metrics import hardness_mae
 from ..utils._random import int_seed
+from ..utils._validation import check_roi
 from ._peak_baseline import make_peak_change_baseline
 from ._runner import ProgressLog
 
@@ -43,19 +44,24 @@ __all__ = [
 ]
 
 
-def _named_pipeline(name, seed=None):
-    """A pipeline known by name; ``seed`` seeds the nets' initial weights, shuffling and dropout."""
+def _named_pipeline(name, seed=None, roi=None):
+    """A pipeline known by name; ``seed`` seeds the nets' initial weights, shuffling and dropout.
 
+    ``roi`` is the region of the frames each pipeline reads: the baseline's and
+    the contact-profile features' ``roi``, the frame selector's for the nets.
+    """
     if name == "peak_change":
-        return make_peak_change_baseline()
+        return make_peak_change_baseline(roi=roi)
     if name == "contact_profile":
-        return models.make_contact_profile_pipeline(head="logistic")
+        return models.make_contact_profile_pipeline(head="logistic", roi=roi)
     if name == "contact_profile_nn":
-        return models.make_contact_profile_pipeline(head="nn", random_state=seed)
+        return models.make_contact_profile_pipeline(head="nn", roi=roi, random_state=seed)
     if name == "convlstm":
         # the test objects are never seen in training here: the input that carries over to them
-        return models.make_convlstm_pipeline(intensity_channels=True, random_state=seed)
-    return getattr(models, f"make_{name}_pipeline")(random_state=seed)
+        pipe = models.make_convlstm_pipeline(intensity_channels=True, random_state=seed)
+    else:
+        pipe = getattr(models, f"make_{name}_pipeline")(random_state=seed)
+    return pipe.set_params(frames__roi=roi)
 
 
 def _share_first_steps(named):
@@ -156,6 +162,7 @@ def _indexed(j, func, *args):
         "cv": [Interval(numbers.Integral, 2, None, closed="left")],
         "n_repeats": [Interval(numbers.Integral, 1, None, closed="left")],
         "baseline": ["boolean"],
+        "roi": [None, tuple, list],
         "error_score": [StrOptions({"raise"}), numbers.Real],
         "n_jobs": [numbers.Integral, None],
         "random_state": ["random_state"],
@@ -163,8 +170,8 @@ def _indexed(j, func, *args):
     },
     prefer_skip_nested_validation=True,
 )
-def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=True, error_score="raise",
-                       n_jobs=None, random_state=0, verbose=1):
+def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=True, roi=None,
+                       error_score="raise", n_jobs=None, random_state=0, verbose=1):
     """Object-disjoint cross-validation of press-video pipelines.
 
     Each fold tests on objects that no training press came from
@@ -232,6 +239,15 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         more objects.
     baseline : bool, default=True
         Add the one-number baseline as ``"peak_change"``.
+    roi : tuple (top, bottom, left, right) or None, default=None
+        The region of the frames that the baseline and the pipelines given
+        by name read (fractions of height and width): the ``roi`` of
+        :func:`make_peak_change_baseline` and of
+        :class:`~sklearn_hardness.features.ContactProfileFeatures`, and of
+        the nets' :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`.
+        For sensors whose frame shows more than the gel (a GelSight Wedge
+        grasp shows the housing and the other finger). Estimators given in
+        a dict are left as they are: set their own ``roi``.
     error_score : "raise" or float, default="raise"
         What a failing pipeline gives: raise, or warn and score the fold as
         this value (e.g. ``np.nan``); the table names the error.
@@ -308,6 +324,7 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     >>> result.table[0]["pipeline"], result.confusion["peak_change"].shape
     ('peak_change', (3, 3))
     """
+    roi = check_roi(roi)
     data = _load_dataset(dataset, random_state)
     X, y = data.videos, np.asarray(data.target)
     groups = getattr(data, "object_id", None)
@@ -326,10 +343,10 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
             raise ValueError(f"unknown pipeline(s) {unknown}; choose among {list(PIPELINE_NAMES)} "
                              "or pass a dict {name: estimator}.")
         seed = int_seed(random_state)
-        named = {p: _named_pipeline(p, seed) for p in pipelines}
+        named = {p: _named_pipeline(p, seed, roi) for p in pipelines}
         memory = _share_first_steps(named)
     if baseline and "peak_change" not in named:
-        named = {"peak_change": make_peak_change_baseline(), **named}
+        named = {"peak_change": make_peak_change_baseline(roi=roi), **named}
     if not named:
         raise ValueError("no pipelines to evaluate.")
     names = np.asarray(data.target_names)

@@ -14,6 +14,7 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import FunctionTransformer, StandardScaler
 
 from ..preprocessing import contact_curve
+from ..utils._validation import check_roi
 
 __all__ = ["make_peak_change_baseline", "peak_contact_change"]
 
@@ -47,23 +48,8 @@ def peak_contact_change(videos, roi=None):
     >>> peak_contact_change([video]).round(3).tolist()
     [[0.095]]
     """
-
-    roi = _check_roi(roi)
+    roi = check_roi(roi)
     return np.array([[np.log(0.1 + float(np.max(contact_curve(v, roi=roi))))] for v in videos])
-
-
-def _check_roi(roi):
-    if roi is None:
-        return None
-    try:
-        values = tuple(float(v) for v in roi)
-    except (TypeError, ValueError):
-        values = ()
-    if (len(values) != 4 or not all(0 <= v <= 1 for v in values)
-            or not (values[0] < values[1] and values[2] < values[3])):
-        raise ValueError("roi must be None or (top, bottom, left, right) fractions in [0, 1] with "
-                         f"top < bottom and left < right, got {roi!r}.")
-    return values
 
 
 def make_peak_change_baseline(class_weight="balanced", roi=None):
@@ -97,6 +83,6 @@ def make_peak_change_baseline(class_weight="balanced", roi=None):
     >>> [name for name, _ in make_peak_change_baseline().steps]
     ['functiontransformer', 'standardscaler', 'logisticregression']
     """
-    roi = _check_roi(roi)
+    roi = check_roi(roi)
     return make_pipeline(FunctionTransformer(peak_contact_change, kw_args=None if roi is None else {"roi": roi}),
                          StandardScaler(), LogisticRegression(class_weight=class_weight))

@@ -11,8 +11,9 @@ from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
 from sklearn.utils._param_validation import Interval
 from sklearn.utils.validation import check_is_fitted
 
+from ..preprocessing._contact_curve import _roi_slices
 from ..utils._tags import videos_tags
-from ..utils._validation import check_video, check_video_sequence
+from ..utils._validation import check_roi, check_video, check_video_sequence
 
 __all__ = ["ContactProfileFeatures"]
 
@@ -32,8 +33,11 @@ _NAMES = (
 )
 
 
-def _grey_small(video, max_side):
-    video = check_video(video, min_frames=1)
+def _grey_small(video, max_side, roi=None, name="video"):
+    video = check_video(video, min_frames=1, name=name)
+    if roi is not None:
+        rows, cols = _roi_slices(video.shape[1:3], roi, name)
+        video = video[:, rows, cols]
     h, w = video.shape[1:3]
     stride = max(1, max(h, w) // max_side)
     small = video[:, ::stride, ::stride].astype(np.float32)
@@ -75,8 +79,8 @@ def _spread(d_peak):
     return float(np.log(moment / (h * w) + 1e-4))
 
 
-def _profile(video, max_side, noise_factor):
-    g = _grey_small(video, max_side)
+def _profile(video, max_side, noise_factor, roi=None, name="video"):
+    g = _grey_small(video, max_side, roi, name)
     t = len(g)
     diff = np.abs(g - g[0])  # (T, h, w)
     curve = diff.reshape(t, -1).mean(axis=1)
@@ -155,6 +159,15 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         A pixel is in contact when its change exceeds its own pre-contact
         change by this many times the median pre-contact change (+0.5 grey
         levels for codec quantisation).
+    roi : tuple (top, bottom, left, right) or None, default=None
+        Read only this region of each frame, given as fractions of its height
+        and width (e.g. ``(0.18, 0.88, 0.08, 0.70)``), before striding: the
+        same features as on videos cropped to it. For sensors whose frame
+        shows more than the gel (a GelSight Wedge grasp shows the housing and
+        the other finger), where changes outside the gel would count as
+        contact. The region of
+        :class:`~sklearn_hardness.preprocessing.ContactFrameSelector` and
+        :func:`~sklearn_hardness.experiments.make_peak_change_baseline`.
     n_jobs : int or None, default=None
         Videos processed in parallel (joblib threads).
 
@@ -181,12 +194,14 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
     _parameter_constraints: dict = {
         "max_side": [Interval(numbers.Integral, 8, None, closed="left")],
         "noise_factor": [Interval(numbers.Real, 0, None, closed="neither")],
+        "roi": [None, tuple, list],
         "n_jobs": [numbers.Integral, None],
     }
 
-    def __init__(self, max_side=80, noise_factor=3.0, n_jobs=None):
+    def __init__(self, max_side=80, noise_factor=3.0, roi=None, n_jobs=None):
         self.max_side = max_side
         self.noise_factor = noise_factor
+        self.roi = roi
         self.n_jobs = n_jobs
 
     @_fit_context(prefer_skip_nested_validation=True)
@@ -203,6 +218,7 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         -------
         self : ContactProfileFeatures
         """
+        check_roi(self.roi)
         check_video_sequence(X)
         self.n_features_out_ = len(_NAMES)
         return self
@@ -222,8 +238,9 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         """
         check_is_fitted(self)
         X = check_video_sequence(X)
+        roi = check_roi(self.roi)
         rows = Parallel(n_jobs=self.n_jobs, prefer="threads")(
-            delayed(_profile)(X[i], self.max_side, self.noise_factor) for i in range(len(X)))
+            delayed(_profile)(X[i], self.max_side, self.noise_factor, roi, f"video {i}") for i in range(len(X)))
         return np.vstack(rows)
 
     def get_feature_names_out(self, input_features=None):

@@ -288,7 +288,7 @@ def make_dinov2nn_pipeline(*, n_between=1, frame_size=(112, 150), model="faceboo
                      ("clf", DINOv2NNClassifier(**classifier_params))])
 
 
-def make_contact_profile_pipeline(*, head="logistic", max_side=80, **classifier_params):
+def make_contact_profile_pipeline(*, head="logistic", max_side=80, roi=None, **classifier_params):
     """Videos -> :class:`~sklearn_hardness.features.ContactProfileFeatures` -> scaler -> classifier.
 
     The pipeline for objects the model has not seen: twelve features of the
@@ -328,6 +328,10 @@ def make_contact_profile_pipeline(*, head="logistic", max_side=80, **classifier_
         sampling.
     max_side : int, default=80
         ``max_side`` of :class:`~sklearn_hardness.features.ContactProfileFeatures`.
+    roi : tuple (top, bottom, left, right) or None, default=None
+        ``roi`` of :class:`~sklearn_hardness.features.ContactProfileFeatures`:
+        read only this region of the frames (fractions of height and
+        width), e.g. the gel where the frame also shows the sensor housing.
     **classifier_params
         Passed to the head; ``class_weight`` defaults to ``"balanced"``
         (imbalanced ranks otherwise collapse onto the majority class), and
@@ -377,5 +381,5 @@ def make_contact_profile_pipeline(*, head="logistic", max_side=80, **classifier_
     if head == "logistic":
         classifier_params.setdefault("max_iter", 2000)
     clf = heads[head](**classifier_params)
-    return MCDropoutPipeline([("features", ContactProfileFeatures(max_side=max_side)),
+    return MCDropoutPipeline([("features", ContactProfileFeatures(max_side=max_side, roi=roi)),
                               ("scale", StandardScaler()), ("clf", clf)])

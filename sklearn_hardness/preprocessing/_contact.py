@@ -15,7 +15,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from ..utils._param_validation import FRAME_SIZE
 from ..utils._tags import videos_tags
-from ..utils._validation import check_video, check_video_sequence
+from ..utils._validation import check_roi, check_video, check_video_sequence
 from ..utils._warnings import external_stacklevel
 
 from ._contact_curve import _as_float255, _contact_window, _min_frames_auto, _roi_slices, _select_one
@@ -229,16 +229,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
                 "Both frame_size and output_size are set; output_size is the deprecated name of "
                 "frame_size: set frame_size only."
             )
-        roi = self.roi
-        if roi is not None and (
-            len(roi) != 4
-            or not all(isinstance(v, numbers.Real) and not isinstance(v, bool) and 0 <= v <= 1 for v in roi)
-            or not (roi[0] < roi[1] and roi[2] < roi[3])
-        ):
-            raise ValueError(
-                "roi must be None or (top, bottom, left, right) fractions in [0, 1] with "
-                f"top < bottom and left < right, got {roi!r}."
-            )
+        check_roi(self.roi)
 
     def _resolved_frame_size(self):
         """``frame_size``, or the deprecated ``output_size`` where that was set (checked in ``_check_sizes``)."""

@@ -12,7 +12,7 @@ import numbers
 
 import numpy as np
 
-__all__ = ["check_video", "check_video_sequence", "check_frames_array"]
+__all__ = ["check_video", "check_video_sequence", "check_frames_array", "check_roi"]
 
 
 def check_video(video, *, name="video", min_frames=1, allow_float=True):
@@ -228,3 +228,24 @@ def check_positive_int(value, name, *, minimum=1):
     if value < minimum:
         raise ValueError(f"{name} must be >= {minimum}, got {value}.")
     return int(value)
+
+
+def check_roi(roi):
+    """Check a region of interest and return it as a tuple of four floats, or None.
+
+    ``roi`` is ``(top, bottom, left, right)``: fractions of the frame's height
+    and width in [0, 1], ``top < bottom`` and ``left < right``. The one check
+    of every ``roi`` parameter (:class:`~sklearn_hardness.preprocessing.ContactFrameSelector`,
+    :class:`~sklearn_hardness.features.ContactProfileFeatures`,
+    :func:`~sklearn_hardness.experiments.peak_contact_change`, ...), so a bad
+    region gets the same message everywhere.
+    """
+    if roi is None:
+        return None
+    values = tuple(roi) if isinstance(roi, (tuple, list, np.ndarray)) else ()
+    if (len(values) != 4
+            or not all(isinstance(v, numbers.Real) and not isinstance(v, bool) and 0 <= v <= 1 for v in values)
+            or not (values[0] < values[1] and values[2] < values[3])):
+        raise ValueError("roi must be None or (top, bottom, left, right) fractions in [0, 1] with "
+                         f"top < bottom and left < right, got {roi!r}.")
+    return tuple(float(v) for v in values)
