@@ -13,7 +13,7 @@ FACTORY_OF = {"convlstm": models.make_convlstm_pipeline, "ofnn": models.make_ofn
               "dinov2nn": models.make_dinov2nn_pipeline, "contact_profile_nn": models.make_contact_profile_pipeline,
               "contact_profile": models.make_contact_profile_pipeline}
 #: The factory arguments that make a named model's head (the default head otherwise).
-HEAD_OF = {"contact_profile": {"head": "logistic"}}
+HEAD_OF = {"contact_profile": {"head": "logistic"}, "contact_profile_nn": {"head": "nn"}}
 
 
 def test_every_named_model_has_its_factory():
