@@ -3,8 +3,10 @@
 The repository's ``example_data/`` (45 MJPG grasp videos of 15 objects, 480x640
 at 30 fps) has no license: it is never committed here. Bring it locally (e.g.
 ``git show HEAD:example_data/...`` from a clone) and pass its folder as
-``--data``. Only the ``.avi`` files are read; the ``.pkl`` force and width
-files next to them are pickles and are left alone.
+``--data``. The ``.avi`` files are read as videos; the ``.pkl`` gripper force
+(N) and width (m) per frame next to them are pickled NumPy arrays, read by
+:func:`load_grasp_forces` through an unpickler that builds NumPy arrays and
+nothing else (a pickle can run any code it names).
 
 The file names give relative softness within two object families, from
 hardest to softest:
@@ -19,6 +21,7 @@ recording days) are one object here.
 """
 
 import csv
+import pickle
 import re
 import tempfile
 from itertools import combinations
@@ -106,4 +109,32 @@ def family_pairs(object_names, scores):
         pairs = list(combinations(present, 2))  # (harder, softer): members are hardest first
         right = sum(mean[a] > mean[b] for a, b in pairs)
         out[family] = (right, len(pairs), mean)
+    return out
+
+
+class _ArrayUnpickler(pickle.Unpickler):
+    """Builds NumPy arrays and nothing else ("Restricting Globals", Python's pickle documentation)."""
+
+    ALLOWED = {("numpy.core.multiarray", "_reconstruct"), ("numpy._core.multiarray", "_reconstruct"),
+               ("numpy", "ndarray"), ("numpy", "dtype")}
+
+    def find_class(self, module, name):
+        if (module, name) not in self.ALLOWED:
+            raise pickle.UnpicklingError(f"{module}.{name} is not a NumPy array part: refused")
+        return super().find_class(module, name)
+
+
+def load_grasp_forces(data):
+    """Per grasp video under ``data``: (object name, force in N, gripper width in m), per frame.
+
+    From the ``<video>_forces.pkl`` and ``<video>_widths.pkl`` files next to each
+    ``.avi`` (sorted by path, as :func:`load_estimate_modulus`).
+    """
+    out = []
+    for video in sorted(Path(data).rglob("*.avi")):
+        arrays = []
+        for kind in ("forces", "widths"):
+            with open(video.with_name(f"{video.stem}_{kind}.pkl"), "rb") as f:
+                arrays.append(np.asarray(_ArrayUnpickler(f).load(), dtype=float).ravel())
+        out.append((object_name(video), *arrays))
     return out
