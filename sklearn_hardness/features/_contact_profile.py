@@ -11,7 +11,7 @@ from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
 from sklearn.utils._param_validation import Interval
 from sklearn.utils.validation import check_is_fitted
 
-from ..preprocessing._contact_curve import _roi_slices
+from ..utils._validation import roi_slices
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence
 
@@ -36,7 +36,7 @@ _NAMES = (
 def _grey_small(video, max_side, roi=None, name="video"):
     video = check_video(video, min_frames=1, name=name)
     if roi is not None:
-        rows, cols = _roi_slices(video.shape[1:3], roi, name)
+        rows, cols = roi_slices(video.shape[1:3], roi, name)
         video = video[:, rows, cols]
     h, w = video.shape[1:3]
     stride = max(1, max(h, w) // max_side)

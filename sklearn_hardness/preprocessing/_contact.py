@@ -15,10 +15,10 @@ from sklearn.utils.validation import check_is_fitted
 
 from ..utils._param_validation import FRAME_SIZE
 from ..utils._tags import videos_tags
-from ..utils._validation import check_roi, check_video, check_video_sequence
+from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
 from ..utils._warnings import external_stacklevel
 
-from ._contact_curve import _as_float255, _contact_window, _min_frames_auto, _roi_slices, _select_one
+from ._contact_curve import _as_float255, _contact_window, _min_frames_auto, _select_one
 
 __all__ = ["ContactFrameSelector", "ContactNotFoundWarning"]
 
@@ -353,7 +353,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
 
     def _extract(self, video, indices, name, frame_size):
         """The selected frames of one validated video, scaled, cropped, converted, resized."""
-        rows, cols = _roi_slices(video.shape[1:3], self.roi, name)
+        rows, cols = roi_slices(video.shape[1:3], self.roi, name)
         if self.crop_contact is not None:
             rows, cols = _contact_window(video, indices, rows, cols, self.crop_contact, name)
         frames = _as_float255(video[indices][:, rows, cols], name)

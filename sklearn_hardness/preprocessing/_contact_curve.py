@@ -14,7 +14,7 @@ import cv2
 import numpy as np
 from scipy.ndimage import median_filter
 
-from ..utils._validation import check_video
+from ..utils._validation import check_video, roi_slices
 
 __all__ = ["contact_curve"]
 
@@ -64,18 +64,6 @@ def _as_float255(video, name):
             "scaled to [0, 1] (or pass uint8 frames)."
         )
     return video.astype(np.float32) * 255.0
-
-
-def _roi_slices(shape, roi, name):
-    if roi is None:
-        return slice(None), slice(None)
-    h, w = shape
-    y0, y1, x0, x1 = roi
-    rows = slice(int(round(y0 * h)), int(round(y1 * h)))
-    cols = slice(int(round(x0 * w)), int(round(x1 * w)))
-    if rows.stop - rows.start < 2 or cols.stop - cols.start < 2:
-        raise ValueError(f"roi={roi} leaves fewer than 2x2 pixels of the {h}x{w} frames of {name}.")
-    return rows, cols
 
 
 def _contact_window(video, indices, rows, cols, fraction, name):
@@ -176,7 +164,7 @@ def _curves(video, roi, name):
     The localised curve is, per frame, the mean residual of the most-changed
     ``_LOCAL_TOP`` of a grid of cells over the (strided) frame.
     """
-    rows, cols = _roi_slices(video.shape[1:3], roi, name)
+    rows, cols = roi_slices(video.shape[1:3], roi, name)
     video = video[:, rows, cols]
     h, w = video.shape[1:3]
     stride = max(1, max(h, w) // _CURVE_SIDE)

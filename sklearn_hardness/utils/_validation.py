@@ -12,7 +12,7 @@ import numbers
 
 import numpy as np
 
-__all__ = ["check_video", "check_video_sequence", "check_frames_array", "check_roi"]
+__all__ = ["check_video", "check_video_sequence", "check_frames_array", "check_roi", "roi_slices"]
 
 
 def check_video(video, *, name="video", min_frames=1, allow_float=True):
@@ -249,3 +249,20 @@ def check_roi(roi):
         raise ValueError("roi must be None or (top, bottom, left, right) fractions in [0, 1] with "
                          f"top < bottom and left < right, got {roi!r}.")
     return tuple(float(v) for v in values)
+
+
+def roi_slices(shape, roi, name):
+    """Row and column slices of a checked ``roi`` in frames of ``shape`` (height, width).
+
+    ``None`` gives the whole frame. A region smaller than 2x2 pixels raises a
+    ``ValueError`` that names ``name`` (the video).
+    """
+    if roi is None:
+        return slice(None), slice(None)
+    h, w = shape
+    y0, y1, x0, x1 = roi
+    rows = slice(int(round(y0 * h)), int(round(y1 * h)))
+    cols = slice(int(round(x0 * w)), int(round(x1 * w)))
+    if rows.stop - rows.start < 2 or cols.stop - cols.start < 2:
+        raise ValueError(f"roi={roi} leaves fewer than 2x2 pixels of the {h}x{w} frames of {name}.")
+    return rows, cols
