@@ -34,3 +34,24 @@ def test_grid_search_over_dropout_on_videos():
     search = GridSearchCV(pipe, {"clf__dropout": [0.0, 0.3]}, cv=2).fit(data.videos, data.target)
     assert search.best_params_["clf__dropout"] in (0.0, 0.3)
     assert search.best_estimator_.predict_proba_samples(data.videos[:2], n_samples=3).shape == (3, 2, 5)
+
+
+def test_every_net_factory_reads_only_its_roi():
+    """``roi`` of a factory: the frames step sees the gel alone, as if the videos were cropped to it."""
+    from sklearn_hardness.models import make_dinov2nn_pipeline, make_ofnn_pipeline
+
+    from ._synthetic import FRAMED_GEL, framed_press, growing_disc_press
+
+    rng = np.random.default_rng(0)
+    framed = [framed_press(growing_disc_press(int(rng.integers(2, 30)), 8.0, rng), rng) for _ in range(4)]
+    cropped = [v[:, 8:40, 16:48] for v in framed]
+    for factory, kwargs in [(make_convlstm_pipeline, {"frame_size": (8, 8)}),
+                            (make_ofnn_pipeline, {"frame_size": (16, 16)}),
+                            (make_dinov2nn_pipeline, {"frame_size": (14, 14)})]:
+        on_gel = factory(roi=FRAMED_GEL, **kwargs).named_steps["frames"]
+        assert on_gel.roi == FRAMED_GEL
+        np.testing.assert_array_equal(on_gel.fit_transform(framed),
+                                      factory(**kwargs).named_steps["frames"].fit_transform(cropped))
+        # without it, the housing's change is taken for contact on some of the videos
+        whole = factory(**kwargs).named_steps["frames"]
+        assert not np.array_equal(whole.select(framed).indices, on_gel.select(framed).indices), factory.__name__

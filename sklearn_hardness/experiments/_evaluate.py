@@ -47,8 +47,9 @@ __all__ = [
 def _named_pipeline(name, seed=None, roi=None):
     """A pipeline known by name; ``seed`` seeds the nets' initial weights, shuffling and dropout.
 
-    ``roi`` is the region of the frames each pipeline reads: the baseline's and
-    the contact-profile features' ``roi``, the frame selector's for the nets.
+    ``roi`` is the region of the frames each pipeline reads: every factory's
+    ``roi`` (the baseline's and the contact-profile features', the frame
+    selector's for the nets).
     """
     if name == "peak_change":
         return make_peak_change_baseline(roi=roi)
@@ -58,10 +59,8 @@ def _named_pipeline(name, seed=None, roi=None):
         return models.make_contact_profile_pipeline(head="nn", roi=roi, random_state=seed)
     if name == "convlstm":
         # the test objects are never seen in training here: the input that carries over to them
-        pipe = models.make_convlstm_pipeline(intensity_channels=True, random_state=seed)
-    else:
-        pipe = getattr(models, f"make_{name}_pipeline")(random_state=seed)
-    return pipe.set_params(frames__roi=roi)
+        return models.make_convlstm_pipeline(intensity_channels=True, roi=roi, random_state=seed)
+    return getattr(models, f"make_{name}_pipeline")(roi=roi, random_state=seed)
 
 
 def _share_first_steps(named):

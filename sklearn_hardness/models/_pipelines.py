@@ -142,14 +142,14 @@ class FrameScaler(TransformerMixin, BaseEstimator):
         return frames_tags(super().__sklearn_tags__())
 
 
-def _selector(n_between, frame_size, color, subtract_first=True):
+def _selector(n_between, frame_size, color, roi, subtract_first=True):
     return ContactFrameSelector(
-        n_between=n_between, frame_size=frame_size, color=color, subtract_first=subtract_first
+        n_between=n_between, frame_size=frame_size, color=color, roi=roi, subtract_first=subtract_first
     )
 
 
 def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", intensity_channels=False,
-                           augment=False, **classifier_params):
+                           augment=False, roi=None, **classifier_params):
     """Videos -> contact frames -> :class:`FrameScaler` -> [:class:`IntensityChannels`] -> :class:`ConvLSTMClassifier`.
 
     Which input is best depends on whether the test objects were seen in
@@ -192,6 +192,11 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
         channels when ``intensity_channels=True``; a :class:`FrameAugmenter`
         is used as given. What it changed, measured, is in
         :class:`FrameAugmenter`'s Notes.
+    roi : tuple (top, bottom, left, right) or None, default=None
+        ``roi`` of the :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`
+        (step ``"frames"``): find contact and take frames only in this region
+        (fractions of height and width), e.g. the gel where the frame also
+        shows the sensor housing.
     **classifier_params
         Passed to :class:`ConvLSTMClassifier` (e.g. ``dropout``,
         ``dropout_placement="layers"`` for the paper's dropout after each
@@ -224,7 +229,7 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
     elif augment is False:
         augment = None
     classifier_params["augment"] = augment
-    steps = [("frames", _selector(n_between, frame_size, color)), ("scale", FrameScaler())]
+    steps = [("frames", _selector(n_between, frame_size, color, roi)), ("scale", FrameScaler())]
     if intensity_channels:
         steps.append(("intensity", IntensityChannels()))
     steps.append(("clf", ConvLSTMClassifier(**classifier_params)))
@@ -232,7 +237,7 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
 
 
 def make_ofnn_pipeline(*, n_between=2, frame_size=(120, 160), n_features=500, flow_output="magnitude_quantiles",
-                       **classifier_params):
+                       roi=None, **classifier_params):
     """Videos -> contact frames -> :class:`OpticalFlowFeatures` -> :class:`OFNNClassifier`.
 
     Parameters
@@ -252,6 +257,10 @@ def make_ofnn_pipeline(*, n_between=2, frame_size=(120, 160), n_features=500, fl
         ``silicone5`` and ``shore9``) better than the paper's flattened
         ``"tracks"``, which the :mod:`~sklearn_hardness.experiments` use to
         reproduce the paper (figures in ``docs/simulator.md``).
+    roi : tuple (top, bottom, left, right) or None, default=None
+        ``roi`` of the :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`
+        (step ``"frames"``): find contact and track corners only in this
+        region (fractions of height and width).
     **classifier_params
         Passed to :class:`OFNNClassifier`; ``class_weight`` defaults to
         ``"balanced"`` here.
@@ -270,20 +279,45 @@ def make_ofnn_pipeline(*, n_between=2, frame_size=(120, 160), n_features=500, fl
 
     classifier_params.setdefault("class_weight", "balanced")
     # raw frames, not differences: optical flow tracks the gel's markers or texture
-    return MCDropoutPipeline([("frames", _selector(n_between, frame_size, "gray", subtract_first=False)),
+    return MCDropoutPipeline([("frames", _selector(n_between, frame_size, "gray", roi, subtract_first=False)),
                      ("features", OpticalFlowFeatures(n_features=n_features, output=flow_output)),
                      ("clf", OFNNClassifier(**classifier_params))])
 
 
-def make_dinov2nn_pipeline(*, n_between=1, frame_size=(112, 150), model="facebook/dinov2-small",
+def make_dinov2nn_pipeline(*, n_between=1, frame_size=(112, 150), model="facebook/dinov2-small", roi=None,
                            **classifier_params):
     """Videos -> contact frames -> :class:`DINOv2Features` -> :class:`DINOv2NNClassifier`.
 
-    ``model`` is the DINOv2 backbone (Hugging Face id in the local cache, a
-    local directory or a module; see :class:`DINOv2Features`).
+    Parameters
+    ----------
+    n_between : int, default=1
+        Frames between contact start and peak.
+    frame_size : (int, int), default=(112, 150)
+        Size of the selected RGB frames (differences to the first frame) fed
+        to the backbone.
+    model : str, path-like or torch.nn.Module, default="facebook/dinov2-small"
+        The DINOv2 backbone: a Hugging Face id in the local cache, a local
+        directory or a module (see :class:`DINOv2Features`; nothing is
+        downloaded at run time).
+    roi : tuple (top, bottom, left, right) or None, default=None
+        ``roi`` of the :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`
+        (step ``"frames"``), as in :func:`make_convlstm_pipeline`.
+    **classifier_params
+        Passed to :class:`DINOv2NNClassifier`.
+
+    Returns
+    -------
+    pipeline : MCDropoutPipeline
+        Steps ``"frames"``, ``"features"``, ``"clf"``.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.models import make_dinov2nn_pipeline
+    >>> make_dinov2nn_pipeline(roi=(0.1, 0.9, 0.1, 0.9)).named_steps["frames"].roi
+    (0.1, 0.9, 0.1, 0.9)
     """
 
-    return MCDropoutPipeline([("frames", _selector(n_between, frame_size, "rgb")),
+    return MCDropoutPipeline([("frames", _selector(n_between, frame_size, "rgb", roi)),
                      ("features", DINOv2Features(model=model)),
                      ("clf", DINOv2NNClassifier(**classifier_params))])
 
