@@ -33,8 +33,18 @@ with its defaults, ``random_state=seed``); and two non-linear heads of
 scikit-learn, a random forest and gradient boosting. Whether a head more
 flexible than a linear one finds more in the features.
 
+``--net-inputs`` adds a fourth table: what the inputs of the paper's nets, as
+``evaluate`` builds them, tell of new objects with the same logistic
+regression, alone and beside the twelve features (issue 20 asks whether
+contact-profile features should feed the nets): the OFNN pipeline's flow
+magnitude quantiles (``make_ofnn_pipeline()`` without its net) and the
+ConvLSTM pipeline's intensity statistics (``make_convlstm_pipeline(
+intensity_channels=True)`` without its net: each selected frame's log mean,
+spread and maximum change, the values of its :class:`IntensityChannels`
+channels; its :class:`FrameScaler` fitted on each fold's training presses).
+
     python benchmarks/bench_contact_profile_features.py [--seeds 0 1 2 3 4] [--n-jobs 2]
-        [--variant NAME] [--param NAME=VALUE ...] [--heads] [--out FILE]
+        [--variant NAME] [--param NAME=VALUE ...] [--heads] [--net-inputs] [--out FILE]
 
 Prints a markdown table (one column per seed and the mean), the correlations,
 time and peak memory; ``--out`` writes the same text with a provenance line. The ideal rows use the renderer's private profile
@@ -126,7 +136,48 @@ def heads(seed):
                 max_depth=3, learning_rate=0.05, max_iter=200, class_weight="balanced", random_state=seed)}
 
 
-def run_seed(seed, overrides, n_jobs, with_heads=False):
+NET_INPUT_ROWS = ("flow magnitude quantiles (the OFNN pipeline's input)",
+                  "intensity statistics (the ConvLSTM pipeline's intensity channels)",
+                  "12 features + flow magnitude quantiles", "12 features + intensity statistics")
+
+
+def net_inputs(videos, n_jobs):
+    """The OFNN pipeline's flow quantiles and the ConvLSTM pipeline's selected frames (before its scaler)."""
+    from sklearn_hardness.models import make_convlstm_pipeline, make_ofnn_pipeline
+
+    ofnn = make_ofnn_pipeline().set_params(frames__n_jobs=n_jobs)
+    frames = make_convlstm_pipeline(intensity_channels=True).set_params(frames__n_jobs=n_jobs).named_steps["frames"]
+    return ofnn[:-1].fit_transform(videos), frames.fit_transform(videos)
+
+
+def intensity_statistics(train_frames, frames):
+    """Per selected frame, the values of the ConvLSTM pipeline's intensity channels, its scaler fitted on ``train_frames``."""
+    from sklearn_hardness.models import FrameScaler, IntensityChannels
+
+    scaler = FrameScaler().fit(train_frames)
+    channels = IntensityChannels().fit_transform(scaler.transform(frames))
+    return channels[:, :, 0, 0, frames.shape[-1]:].reshape(len(frames), -1)  # constant maps: one pixel holds them
+
+
+def net_input_scores(cp, flow, frames, y, folds):
+    """Mean balanced accuracy of the logistic regression on each row of ``NET_INPUT_ROWS``."""
+    intensity = [(intensity_statistics(frames[tr], frames[tr]), intensity_statistics(frames[tr], frames[te]))
+                 for tr, te in folds]
+    model = make_pipeline(StandardScaler(), LogisticRegression(max_iter=3000, class_weight="balanced"))
+
+    def score(train_test):
+        return float(np.mean([balanced_accuracy_score(y[te], model.fit(a, y[tr]).predict(b))
+                              for (tr, te), (a, b) in zip(folds, train_test)]))
+
+    return {NET_INPUT_ROWS[0]: score([(flow[tr], flow[te]) for tr, te in folds]),
+            NET_INPUT_ROWS[1]: score(intensity),
+            NET_INPUT_ROWS[2]: score([(np.hstack([cp[tr], flow[tr]]), np.hstack([cp[te], flow[te]]))
+                                      for tr, te in folds]),
+            NET_INPUT_ROWS[3]: score([(np.hstack([cp[tr], a]), np.hstack([cp[te], b]))
+                                      for (tr, te), (a, b) in zip(folds, intensity)])}
+
+
+def run_seed(seed, overrides, n_jobs, with_heads=False, with_net_inputs=False):
     from sklearn_hardness.datasets import make_presses
 
     data = make_presses("everyday", return_mechanics=True, random_state=seed, **overrides)
@@ -151,13 +202,20 @@ def run_seed(seed, overrides, n_jobs, with_heads=False):
     if with_heads:
         head_scores = {name: float(np.mean(scores(V[:, 1:], y, folds, model)))
                        for name, model in heads(seed).items()}
+    net_scores = {}
+    if with_net_inputs:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            flow, frames = net_inputs(data.videos, n_jobs)
+        net_scores = net_input_scores(V[:, 1:], flow, frames, y, folds)
     c = contact
     corr = {"gel depth ~ log_peak_change": spearmanr(ideal[c, 0], V[c, 1])[0],
             "contact area ~ area_at_peak": spearmanr(ideal[c, 1], V[c, 6])[0],
             "contact area ~ log_contact_spread": spearmanr(ideal[c, 1], V[c, 12])[0],
             "loading time ~ rise_frames": spearmanr(ideal[c, 2], V[c, 3])[0],
             "loading time ~ log_loading_time": spearmanr(ideal[c, 2], V[c, 11])[0]}
-    return {k: float(np.mean(v)) for k, v in out.items()}, corr, int(contact.sum()), len(y), head_scores
+    return ({k: float(np.mean(v)) for k, v in out.items()}, corr, int(contact.sum()), len(y), head_scores,
+            net_scores)
 
 
 def main(argv=None):
@@ -167,12 +225,14 @@ def main(argv=None):
     ap.add_argument("--variant", choices=sorted(VARIANTS), default=None)
     ap.add_argument("--param", type=parse_param, action="append", default=[])
     ap.add_argument("--heads", action="store_true", help="also score the twelve features with other heads")
+    ap.add_argument("--net-inputs", action="store_true",
+                    help="also score the paper's nets' inputs, alone and beside the twelve features")
     ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
     args = ap.parse_args(argv)
     overrides = variant_params(args.variant, args.param)
     reset_peak()
     t0 = time.perf_counter()
-    results = [run_seed(s, overrides, args.n_jobs, args.heads) for s in args.seeds]
+    results = [run_seed(s, overrides, args.n_jobs, args.heads, args.net_inputs) for s in args.seeds]
     seconds = time.perf_counter() - t0
     lines = [f"everyday preset{f' (variant {args.variant})' if args.variant else ''}"
              f"{f', overrides {overrides}' if overrides else ''}: balanced accuracy, object-disjoint 5 folds, "
@@ -193,6 +253,14 @@ def main(argv=None):
                   "|---" * (len(args.seeds) + 2) + "|"]
         for name in results[0][4]:
             vals = [r[4][name] for r in results]
+            lines.append(f"| {name} | " + " | ".join(f"{v:.2f}" for v in vals) + f" | {np.mean(vals):.3f} |")
+    if args.net_inputs:
+        lines += ["", "The paper's nets' inputs with the same logistic regression, alone and beside the twelve "
+                  "features (same folds)", "",
+                  "| input | " + " | ".join(f"seed {s}" for s in args.seeds) + " | mean |",
+                  "|---" * (len(args.seeds) + 2) + "|"]
+        for name in NET_INPUT_ROWS:
+            vals = [r[5][name] for r in results]
             lines.append(f"| {name} | " + " | ".join(f"{v:.2f}" for v in vals) + f" | {np.mean(vals):.3f} |")
     lines += ["", "presses with contact (ideal rows): " + ", ".join(f"{r[2]} of {r[3]}" for r in results),
               "", f"{seconds:.1f} s, peak memory {peak_rss_mb():.0f} MB"]
