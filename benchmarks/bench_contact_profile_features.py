@@ -218,6 +218,15 @@ def run_seed(seed, overrides, n_jobs, with_heads=False, with_net_inputs=False):
             net_scores)
 
 
+def mean_table(first, seeds, names, per_seed):
+    """Markdown rows: one per name, a column per seed (``per_seed[i][name]``) and their mean."""
+    lines = [f"| {first} | " + " | ".join(f"seed {s}" for s in seeds) + " | mean |", "|---" * (len(seeds) + 2) + "|"]
+    for name in names:
+        vals = [scores_of[name] for scores_of in per_seed]
+        lines.append(f"| {name} | " + " | ".join(f"{v:.2f}" for v in vals) + f" | {np.mean(vals):.3f} |")
+    return lines
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
@@ -236,32 +245,20 @@ def main(argv=None):
     seconds = time.perf_counter() - t0
     lines = [f"everyday preset{f' (variant {args.variant})' if args.variant else ''}"
              f"{f', overrides {overrides}' if overrides else ''}: balanced accuracy, object-disjoint 5 folds, "
-             "balanced logistic regression (chance 0.33)", "",
-             "| input | " + " | ".join(f"seed {s}" for s in args.seeds) + " | mean |",
-             "|---" * (len(args.seeds) + 2) + "|"]
-    for row in ROWS:
-        vals = [r[0][row] for r in results]
-        lines.append(f"| {row} | " + " | ".join(f"{v:.2f}" for v in vals) + f" | {np.mean(vals):.3f} |")
+             "balanced logistic regression (chance 0.33)", ""]
+    lines += mean_table("input", args.seeds, ROWS, [r[0] for r in results])
     lines += ["", "How well each video feature measures its ideal counterpart (Spearman, presses with contact)", "",
               "| feature ~ ideal | " + " | ".join(f"seed {s}" for s in args.seeds) + " |",
               "|---" * (len(args.seeds) + 1) + "|"]
     for name in results[0][1]:
         lines.append(f"| {name} | " + " | ".join(f"{r[1][name]:.2f}" for r in results) + " |")
     if args.heads:
-        lines += ["", "The twelve features with other heads (same folds, standardised features, balanced class weights)", "",
-                  "| head | " + " | ".join(f"seed {s}" for s in args.seeds) + " | mean |",
-                  "|---" * (len(args.seeds) + 2) + "|"]
-        for name in results[0][4]:
-            vals = [r[4][name] for r in results]
-            lines.append(f"| {name} | " + " | ".join(f"{v:.2f}" for v in vals) + f" | {np.mean(vals):.3f} |")
+        lines += ["", "The twelve features with other heads (same folds, standardised features, balanced class weights)", ""]
+        lines += mean_table("head", args.seeds, list(results[0][4]), [r[4] for r in results])
     if args.net_inputs:
         lines += ["", "The paper's nets' inputs with the same logistic regression, alone and beside the twelve "
-                  "features (same folds)", "",
-                  "| input | " + " | ".join(f"seed {s}" for s in args.seeds) + " | mean |",
-                  "|---" * (len(args.seeds) + 2) + "|"]
-        for name in NET_INPUT_ROWS:
-            vals = [r[5][name] for r in results]
-            lines.append(f"| {name} | " + " | ".join(f"{v:.2f}" for v in vals) + f" | {np.mean(vals):.3f} |")
+                  "features (same folds)", ""]
+        lines += mean_table("input", args.seeds, NET_INPUT_ROWS, [r[5] for r in results])
     lines += ["", "presses with contact (ideal rows): " + ", ".join(f"{r[2]} of {r[3]}" for r in results),
               "", f"{seconds:.1f} s, peak memory {peak_rss_mb():.0f} MB"]
     text = "\n".join(lines)
