@@ -67,6 +67,7 @@ WRONG_INVOCATIONS = {
     "--n-jobs 0 (evaluate)": ["evaluate", "everyday", "--n-jobs", "0"],
     "--roi upside down (evaluate)": ["evaluate", "everyday", "--roi", "0.9", "0.1", "0", "1"],
     "--roi of three numbers (evaluate)": ["evaluate", "everyday", "--roi", "0.1", "0.9", "0"],
+    "--roi upside down (select)": ["select", "{tmp}/nope.csv", "--roi", "0.9", "0.1", "0", "1"],
     "unknown strategy (benchmark)": ["benchmark", "--strategy", "foo"],
     "unknown --set key (benchmark)": ["benchmark", "--set", "n_iteration=2"],
     "--threads 0": ["benchmark", "--threads", "0"],
@@ -96,6 +97,7 @@ def test_error_lines_name_the_problem(tmp_path, capsys):
         (["select", "x.csv", "--threshold", "abc"], "expected 'auto' or a positive number, got 'abc'"),
         (["record", "--source", "97", "--label", "a", "--out", str(tmp_path / "r")], "camera 97"),
         (["evaluate", "everyday", "--roi", "0.9", "0.1", "0", "1"], "top < bottom and left < right"),
+        (["select", "x.csv", "--roi", "0", "1", "0.7", "0.2"], "top < bottom and left < right"),
     ]:
         with pytest.raises(SystemExit):
             main(argv)
@@ -212,6 +214,33 @@ def test_every_option_has_help(command):
 
 
 # --- select: machine-readable output ------------------------------------------------------------
+
+
+def test_select_roi_finds_contact_on_the_gel(tmp_path, capsys):
+    """``select --roi``: where the rest of the frame brightens, contact is found where the gel alone shows it."""
+    import json
+
+    import numpy as np
+
+    from sklearn_hardness.io import write_video
+    from sklearn_hardness.preprocessing import ContactFrameSelector
+
+    from ._synthetic import FRAMED_GEL, framed_press, growing_disc_press
+
+    rng = np.random.default_rng(3)
+    rows, gels = ["path,label,object_id"], []
+    for i in range(4):
+        video = framed_press(growing_disc_press(int(rng.integers(2, 30)), 8.0, rng), rng)
+        write_video(tmp_path / f"p{i}.avi", video)
+        rows.append(f"p{i}.avi,{'soft' if i % 2 else 'hard'},o{i}")
+        gels.append(video[:, 8:40, 16:48])
+    (tmp_path / "manifest.csv").write_text("\n".join(rows) + "\n")
+    starts = {}
+    for roi in ([], ["--roi", *map(str, FRAMED_GEL)]):
+        assert main(["select", str(tmp_path / "manifest.csv"), "--format", "json", "--quiet", *roi]) == 0
+        starts[bool(roi)] = [r["start"] for r in json.loads(capsys.readouterr().out)]
+    on_gel = ContactFrameSelector(on_no_contact="fallback").select(gels).contact_start.tolist()
+    assert starts[True] == on_gel != starts[False]
 
 
 def test_select_writes_json_and_csv(tmp_path, capsys):

@@ -89,6 +89,14 @@ def _add_quiet(p, what="progress and messages on stderr"):
     p.add_argument("--quiet", action="store_true", help=f"no {what}; results still go to stdout and files")
 
 
+def _add_roi(p, where):
+    """``--roi TOP BOTTOM LEFT RIGHT``: the region of the frames read ``where`` (checked by ``check_roi``)."""
+    p.add_argument("--roi", nargs=4, type=float, default=None, metavar=("TOP", "BOTTOM", "LEFT", "RIGHT"),
+                   help=f"read only this region of the frames {where}, as fractions of height and width (e.g. "
+                   "0.18 0.88 0.08 0.70): for sensors whose frame shows more than the gel (default: the "
+                   "whole frame)")
+
+
 def _n_jobs_help(default):
     return f"parallel jobs (joblib; -1: all cores, -2: all but one). Default: {default}"
 

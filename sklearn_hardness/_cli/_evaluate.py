@@ -9,6 +9,7 @@ from .._experiment_names import DEFAULT_PIPELINES, PIPELINE_NAMES
 from ._common import (
     _SIM_PRESETS,
     _add_quiet,
+    _add_roi,
     _check_out_dir,
     _int_type,
     _n_jobs,
@@ -42,10 +43,7 @@ def _add_evaluate(sub):
                    "the compute (default 1): the figures depend less on one assignment; the intervals "
                    "run over all repetitions' folds, corrected for their overlap, with the degrees of "
                    "freedom of one repetition (more objects narrow them, repetitions little)")
-    p.add_argument("--roi", nargs=4, type=float, default=None, metavar=("TOP", "BOTTOM", "LEFT", "RIGHT"),
-                   help="read only this region of the frames, as fractions of height and width (e.g. "
-                   "0.18 0.88 0.08 0.70), in the baseline and every pipeline: for sensors whose frame shows "
-                   "more than the gel (default: the whole frame)")
+    _add_roi(p, "in the baseline and every pipeline")
     p.add_argument("--out", default="hardness_evaluation",
                    help="folder for evaluation.json and confusion_matrices.png (default ./hardness_evaluation)")
     p.add_argument("--seed", type=_nonnegative_int, default=0, help="seed of the folds and of a preset (default 0)")

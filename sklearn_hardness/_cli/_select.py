@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import sys
 
-from ._common import _add_quiet, _nonnegative_int, _threshold, _UsageError, _user_errors
+from ._common import _add_quiet, _add_roi, _nonnegative_int, _threshold, _UsageError, _user_errors
 
 _SELECT_FORMATS = ("table", "csv", "json")
 
@@ -23,6 +23,7 @@ def _add_select(sub):
                    help="frames kept between first and last (default 2)")
     p.add_argument("--threshold", type=_threshold, default="auto",
                    help="contact threshold: 'auto' (default) or a positive number")
+    _add_roi(p, "in contact selection")
     p.add_argument("--plot", default=None, help="write a PNG of the intensity curves here")
     p.add_argument("--format", choices=_SELECT_FORMATS, default=None,
                    help="table (default on stdout), csv or json (one record per video: path, label, "
@@ -81,11 +82,14 @@ def _run_select(args):
 
     from ..datasets import load_press_videos
     from ..preprocessing import ContactFrameSelector
+    from ..utils._validation import check_roi
 
     fmt = _select_format(args)
     with _user_errors():
+        roi = check_roi(args.roi)
         data = load_press_videos(args.manifest)
-    selector = ContactFrameSelector(n_between=args.n_between, threshold=args.threshold, on_no_contact="fallback")
+    selector = ContactFrameSelector(n_between=args.n_between, threshold=args.threshold, roi=roi,
+                                    on_no_contact="fallback")
     with warnings.catch_warnings():
         if args.quiet:
             warnings.simplefilter("ignore")
