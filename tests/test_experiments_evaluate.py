@@ -365,9 +365,10 @@ def test_roi_reaches_the_baseline_and_every_named_pipeline():
         evaluate_pipelines("/nonexistent/manifest.csv", [], roi=(0.9, 0.1, 0.0, 1.0))
 
 
-def test_contact_profile_pipelines_share_their_features_per_fold(tiny, monkeypatch):
+def test_per_press_steps_run_once_for_all_folds_with_the_same_results(tiny, monkeypatch):
+    """Selection and features of each press: one pass for every fold and pipeline that shares them."""
+    from sklearn_hardness.experiments import _evaluate
     from sklearn_hardness.features import ContactProfileFeatures
-    from sklearn_hardness.models import make_contact_profile_pipeline
 
     calls = []
     original = ContactProfileFeatures.fit_transform
@@ -377,17 +378,41 @@ def test_contact_profile_pipelines_share_their_features_per_fold(tiny, monkeypat
         return original(self, X, y, **params)
 
     monkeypatch.setattr(ContactProfileFeatures, "fit_transform", counting)
-    names = ["contact_profile", "contact_profile_nn"]
-    shared = evaluate_pipelines(tiny, names, cv=3, baseline=False, verbose=0)
-    assert len(calls) == 3  # one feature pass per fold, not one per pipeline and fold
-    # the same figures as two pipelines that each compute their own (a user's dict is left as given)
+    names = ["contact_profile", "contact_profile_nn", "ofnn"]
+    once = evaluate_pipelines(tiny, names, cv=3, verbose=0)
+    assert calls == [len(tiny.target)]  # every press once, for both contact-profile pipelines and all folds
     calls.clear()
-    own = evaluate_pipelines(tiny, {"contact_profile": make_contact_profile_pipeline(head="logistic"),
-                                    "contact_profile_nn": make_contact_profile_pipeline(head="nn", random_state=0)},
-                             cv=3, baseline=False, verbose=0)
-    assert len(calls) == 6
-    for name in names:
-        np.testing.assert_array_equal(shared.predictions[name], own.predictions[name])
+    monkeypatch.setattr(_evaluate, "split_per_press", lambda est: (None, est))  # each fold computes its own
+    per_fold = evaluate_pipelines(tiny, names, cv=3, verbose=0)
+    assert len(calls) == 6  # one pass per fold and pipeline
+    for name in ["peak_change", *names]:
+        np.testing.assert_array_equal(once.predictions[name], per_fold.predictions[name])
+        np.testing.assert_array_equal(once.fold_scores[name], per_fold.fold_scores[name])
+
+
+def test_split_per_press_stops_at_the_first_step_that_learns():
+    from sklearn_hardness.experiments._per_press import split_per_press
+    from sklearn_hardness.models import make_contact_profile_pipeline, make_convlstm_pipeline, make_ofnn_pipeline
+
+    steps = {name: [[n for n, _ in part.steps] if part is not None else None for part in split_per_press(est)]
+             for name, est in [("cp", make_contact_profile_pipeline()), ("convlstm", make_convlstm_pipeline()),
+                               ("ofnn", make_ofnn_pipeline()), ("peak", make_peak_change_baseline())]}
+    assert steps == {"cp": [["features"], ["scale", "clf"]], "convlstm": [["frames"], ["scale", "clf"]],
+                     "ofnn": [["frames", "features"], ["clf"]],
+                     "peak": [["functiontransformer"], ["standardscaler", "logisticregression"]]}
+    # a transformer that may learn (any other function, a subclass) keeps the pipeline whole
+    other = make_pipeline(FunctionTransformer(np.log1p), DummyClassifier())
+    assert split_per_press(other) == (None, other)
+
+
+def test_a_press_no_step_can_read_fails_its_folds_as_before(tiny):
+    videos = [tiny.videos[i] for i in range(len(tiny.target))]
+    videos[0] = np.zeros((5, 8), dtype=np.uint8)  # not a video
+    data = Bunch(videos=videos, target=tiny.target, target_names=tiny.target_names, object_id=tiny.object_id)
+    with pytest.warns(RuntimeWarning, match="failed on a fold"):
+        result = evaluate_pipelines(data, ["contact_profile"], cv=3, error_score=np.nan, verbose=0)
+    for row in result.table:  # every fold holds the press in training or test
+        assert np.isnan(row["balanced_accuracy"]) and row["error"], row
 
 
 def test_plot_confusion_matrices_draws_one_row_normalised_matrix_per_pipeline(tmp_path):

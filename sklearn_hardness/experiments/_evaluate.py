@@ -11,19 +11,16 @@ pipeline beside the one-number baseline of :func:`make_peak_change_baseline`.
 from __future__ import annotations
 
 import numbers
-import tempfile
 import time
 import warnings
 from pathlib import Path
 
-import joblib
 import numpy as np
 from joblib import Parallel, delayed
 from scipy import stats
 from sklearn.base import clone
 from sklearn.metrics import ConfusionMatrixDisplay, balanced_accuracy_score, confusion_matrix
 from sklearn.model_selection import StratifiedGroupKFold
-from sklearn.pipeline import Pipeline
 from sklearn.utils import Bunch, _safe_indexing, check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
@@ -35,6 +32,7 @@ from ..metrics import hardness_mae
 from ..utils._random import int_seed
 from ..utils._validation import check_roi
 from ._peak_baseline import make_peak_change_baseline
+from ._per_press import prefix_key, split_per_press, transform_per_press
 from ._runner import ProgressLog
 
 __all__ = [
@@ -61,33 +59,6 @@ def _named_pipeline(name, seed=None, roi=None):
         # the test objects are never seen in training here: the input that carries over to them
         return models.make_convlstm_pipeline(intensity_channels=True, roi=roi, random_state=seed)
     return getattr(models, f"make_{name}_pipeline")(roi=roi, random_state=seed)
-
-
-def _share_first_steps(named):
-    """Let named pipelines that start with the same transformer fit it once per fold.
-
-    Pipelines whose first step has the same class and parameters (the two
-    contact-profile pipelines: the same ``ContactProfileFeatures``) get a
-    :class:`joblib.Memory` in a temporary folder, so the second one to fit a
-    fold loads the first one's fitted steps and features instead of computing
-    them again (scikit-learn's ``Pipeline(memory=...)``; same values, since the
-    steps are deterministic). Only pipelines built here by name: a user's
-    estimators are left as given. Returns the folder's
-    :class:`tempfile.TemporaryDirectory`, or None when no two pipelines share.
-    """
-    groups = {}
-    for name, est in named.items():
-        if isinstance(est, Pipeline) and len(est.steps) > 1:
-            first = est.steps[0][1]
-            key = joblib.hash((type(first).__qualname__, first.get_params(deep=False)))
-            groups.setdefault(key, []).append(name)
-    shared = [name for names in groups.values() if len(names) > 1 for name in names]
-    if not shared:
-        return None
-    folder = tempfile.TemporaryDirectory(prefix="sklearn-hardness-evaluate-")
-    for name in shared:
-        named[name].set_params(memory=joblib.Memory(folder.name, verbose=0))
-    return folder
 
 
 def _load_dataset(dataset, random_state):
@@ -130,6 +101,36 @@ def _ci95(values, test_train_ratio, df):
     t = stats.t.ppf(0.975, min(df, len(values) - 1))
     half = float(t * np.sqrt(values.var(ddof=1) * (1.0 / len(values) + test_train_ratio)))
     return m, (m - half, m + half)
+
+
+def _per_press_inputs(named, X, n_jobs, log):
+    """Run each pipeline's leading per-press steps once over all presses (:mod:`._per_press`).
+
+    Returns, per name, the input its folds get (the rows of those steps, or
+    the videos), the estimator they fit (the remaining steps, or the whole
+    pipeline) and the seconds of the one pass (counted in full for every
+    pipeline that uses its rows: what the pipeline would take alone).
+    Pipelines with the same leading steps share one pass. Where a pass
+    fails (a video its steps cannot read), its pipelines run whole in every
+    fold, where ``error_score`` decides.
+    """
+    inputs, rests, seconds = {}, {}, {}
+    passes = {}
+    for name, est in named.items():
+        prefix, rest = split_per_press(est)
+        inputs[name], rests[name], seconds[name] = X, est, 0.0
+        if prefix is not None:
+            passes.setdefault(prefix_key(prefix), (prefix, []))[1].append((name, rest))
+    for prefix, users in passes.values():
+        log.write(f"{' -> '.join(type(step).__name__ for _, step in prefix.steps)} of every press, once for "
+                  f"all folds ({', '.join(name for name, _ in users)})")
+        try:
+            Xt, once = transform_per_press(prefix, X, n_jobs=n_jobs)
+        except Exception:  # noqa: BLE001 - the folds run the whole pipelines and report it
+            continue
+        for name, rest in users:
+            inputs[name], rests[name], seconds[name] = Xt, rest, once
+    return inputs, rests, seconds
 
 
 def _fit_fold(name, estimator, X, y, train, test, hardness, error_score):
@@ -215,9 +216,13 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         None: ``["contact_profile", "contact_profile_nn", "convlstm", "ofnn"]``;
         on real recordings of unseen objects the contact-profile features were
         the input that beat the one-number baseline (issue 20), so they run
-        by default beside the paper's nets. Named pipelines that start with
-        the same transformer (the two contact-profile ones) compute it once
-        per fold and share it (a temporary ``Pipeline(memory=...)``).
+        by default beside the paper's nets. The leading steps that turn each
+        press into its row by that press alone (frame selection, the
+        contact-profile features, optical flow, frozen DINOv2 features, the
+        peak change) run once over all presses, not once per fold, and
+        pipelines that start with the same such steps share them (the two
+        contact-profile ones): the same scores, a ``cv``-th of the work in
+        those steps.
     cv : int, default=5
         Number of folds. Every class needs at least ``cv`` objects.
     n_repeats : int, default=1
@@ -274,7 +279,8 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
             one-number baseline's on the same fold, and its 95% t-interval;
             None for the baseline itself or without it), ``mae`` and
             ``mae_ci`` (hardness MAE, None without hardness),
-            ``fit_predict_seconds`` (all fits), ``n_folds`` (``cv``),
+            ``fit_predict_seconds`` (all fits, and the one pass of its
+            per-press steps), ``n_folds`` (``cv``),
             ``n_repeats``, ``predict_proba_samples`` (whether the pipeline
             has it, so active sampling can use it), ``error``. Every
             interval is over the ``n_repeats * cv`` fold scores, its variance
@@ -333,7 +339,6 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     groups = np.asarray(groups)
     if pipelines is None:
         pipelines = list(DEFAULT_PIPELINES)
-    memory = None
     if isinstance(pipelines, dict):
         named = {str(k): v for k, v in pipelines.items()}
     else:
@@ -343,7 +348,6 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
                              "or pass a dict {name: estimator}.")
         seed = int_seed(random_state)
         named = {p: _named_pipeline(p, seed, roi) for p in pipelines}
-        memory = _share_first_steps(named)
     if baseline and "peak_change" not in named:
         named = {"peak_change": make_peak_change_baseline(roi=roi), **named}
     if not named:
@@ -362,14 +366,15 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
              for fold in StratifiedGroupKFold(n_splits=cv, shuffle=True, random_state=rng).split(
                  np.zeros(len(y)), y, groups)]
     hardness = getattr(data, "hardness", None)
-    jobs = [(name, est, k) for name, est in named.items() for k in range(len(folds))]
+    log = ProgressLog(0, desc="evaluate", verbose=verbose)  # messages; the fits get their own below
+    repeats = f" x {n_repeats} repetitions" if n_repeats > 1 else ""
+    log.write(f"{len(named)} pipeline(s) ({', '.join(named)}) x {cv} object-disjoint folds{repeats} on "
+              f"{len(y)} presses of {len(np.unique(groups))} objects")
+    inputs, rests, seconds_once = _per_press_inputs(named, X, n_jobs, log)
+    jobs = [(name, rests[name], k) for name in named for k in range(len(folds))]
     progress = ProgressLog(len(jobs), desc="evaluate", verbose=verbose, unit="fits")
-    if verbose:
-        repeats = f" x {n_repeats} repetitions" if n_repeats > 1 else ""
-        progress.write(f"{len(named)} pipeline(s) ({', '.join(named)}) x {cv} object-disjoint "
-                       f"folds{repeats} on {len(y)} presses of {len(np.unique(groups))} objects")
     outs = [None] * len(jobs)
-    calls = (delayed(_indexed)(j, _fit_fold, name, est, X, y, folds[k][0], folds[k][1], hardness,
+    calls = (delayed(_indexed)(j, _fit_fold, name, est, inputs[name], y, folds[k][0], folds[k][1], hardness,
                                error_score) for j, (name, est, k) in enumerate(jobs))
     for j, out in Parallel(n_jobs=n_jobs, return_as="generator_unordered")(calls):
         outs[j] = out
@@ -393,12 +398,11 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
                                             labels=np.arange(n_classes)) if ok.any()
                            else np.zeros((n_classes, n_classes), dtype=int))
         table.append(dict(pipeline=name, balanced_accuracy=ba, balanced_accuracy_ci=ba_ci, mae=mae,
-                          mae_ci=mae_ci, fit_predict_seconds=float(sum(o["time"] for o in rows)),
+                          mae_ci=mae_ci,
+                          fit_predict_seconds=seconds_once[name] + float(sum(o["time"] for o in rows)),
                           n_folds=cv, n_repeats=n_repeats,
                           predict_proba_samples=hasattr(named[name], "predict_proba_samples"),
                           error="; ".join(errors) or None))
-    if memory is not None:
-        memory.cleanup()
     base = fold_scores.get("peak_change")
     for row in table:
         row["vs_baseline"], row["vs_baseline_ci"] = _paired_difference(

@@ -1,0 +1,107 @@
+"""Per-press steps of a pipeline, computed once for all folds of a cross-validation.
+
+Contact-frame selection, the contact-profile features, optical flow, frozen
+DINOv2 features and the one-number peak change each turn one press into its
+row by that press alone, and their ``fit`` learns nothing from the presses
+(it checks parameters and shapes, or loads a frozen backbone). Fitting them
+on a fold's training presses and transforming its test presses then gives,
+press for press, what transforming every press once gives. Object-disjoint
+cross-validation (:func:`~sklearn_hardness.experiments.evaluate_pipelines`)
+runs them once over all presses instead of once per fold and cross-validates
+the rest of each pipeline on their output: the same scores, a ``cv``-th of
+the work in these steps, which is most of the work of every pipeline
+without a net.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+
+import joblib
+import numpy as np
+from joblib import Parallel, delayed
+from sklearn.base import clone
+from sklearn.pipeline import Pipeline
+from sklearn.preprocessing import FunctionTransformer
+from sklearn.utils import _safe_indexing
+
+from ..features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
+from ..preprocessing import ContactFrameSelector
+from ._peak_baseline import peak_contact_change
+
+__all__ = ["prefix_key", "split_per_press", "transform_per_press"]
+
+#: Exact classes (not subclasses, whose ``fit`` may learn) that map each press by itself.
+_PER_PRESS_TYPES = (ContactFrameSelector, ContactProfileFeatures, OpticalFlowFeatures, DINOv2Features)
+
+
+def _is_per_press(step):
+    if type(step) in _PER_PRESS_TYPES:
+        return True
+    return type(step) is FunctionTransformer and step.func is peak_contact_change and step.inverse_func is None
+
+
+def split_per_press(estimator):
+    """Split a pipeline into its leading per-press steps and the rest.
+
+    Parameters
+    ----------
+    estimator : estimator
+        Any estimator; only a :class:`~sklearn.pipeline.Pipeline` of more
+        than one step can be split.
+
+    Returns
+    -------
+    prefix : Pipeline or None
+        The longest run of leading steps that map each press by itself (the
+        last step is never part of it), or None when there is none.
+    rest : estimator
+        The remaining steps (``estimator`` itself when ``prefix`` is None).
+    """
+    if not isinstance(estimator, Pipeline) or len(estimator.steps) < 2:
+        return None, estimator
+    k = 0
+    while k < len(estimator.steps) - 1 and _is_per_press(estimator.steps[k][1]):
+        k += 1
+    if k == 0:
+        return None, estimator
+    return estimator[:k], estimator[k:]
+
+
+def prefix_key(prefix):
+    """One key for prefixes with the same steps and parameters (they give the same rows)."""
+    return joblib.hash([(type(step).__qualname__, step.get_params(deep=False)) for _, step in prefix.steps])
+
+
+def _fit_transform_chunk(prefix, X, rows):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)  # as the folds ignore them (weak contacts, ...)
+        return clone(prefix).fit_transform(_safe_indexing(X, rows))
+
+
+def transform_per_press(prefix, X, n_jobs=None):
+    """The rows of every press through ``prefix``, in chunks run in parallel.
+
+    Parameters
+    ----------
+    prefix : Pipeline
+        Per-press steps (the ``prefix`` of :func:`split_per_press`).
+    X : sequence
+        The presses (a list or lazy sequence of videos).
+    n_jobs : int or None, default=None
+        Chunks of presses run in parallel through joblib.
+
+    Returns
+    -------
+    Xt : ndarray
+        The rows, press by press, as ``prefix`` fitted on any presses would
+        transform them.
+    seconds : float
+        Wall time of the pass.
+    """
+    t0 = time.perf_counter()
+    n_chunks = max(1, min(len(X), joblib.effective_n_jobs(n_jobs)))
+    chunks = [rows for rows in np.array_split(np.arange(len(X)), n_chunks) if len(rows)]
+    parts = Parallel(n_jobs=n_jobs)(delayed(_fit_transform_chunk)(prefix, X, rows) for rows in chunks)
+    return np.concatenate(parts), time.perf_counter() - t0
