@@ -313,6 +313,7 @@ def test_progress_on_stderr_when_verbose(tiny, capsys):
     captured = capsys.readouterr()
     lines = captured.err.splitlines()
     assert lines[0].startswith("evaluate: 2 pipeline(s) (peak_change, dummy) x 3 object-disjoint folds")
+    assert lines[1] == "evaluate: peak_contact_change of every press, once for all folds (peak_change)"
     done = [int(m) for m in re.findall(r"^evaluate: (\d)/6 fits, \d+s elapsed, about \d+s left$",
                                        captured.err, flags=re.M)]
     assert done == [1, 2, 3, 4, 5, 6] and captured.out == ""

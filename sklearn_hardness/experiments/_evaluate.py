@@ -32,7 +32,7 @@ from ..metrics import hardness_mae
 from ..utils._random import int_seed
 from ..utils._validation import check_roi
 from ._peak_baseline import make_peak_change_baseline
-from ._per_press import prefix_key, split_per_press, transform_per_press
+from ._per_press import describe, prefix_key, split_per_press, transform_per_press
 from ._runner import ProgressLog
 
 __all__ = [
@@ -122,8 +122,7 @@ def _per_press_inputs(named, X, n_jobs, log):
         if prefix is not None:
             passes.setdefault(prefix_key(prefix), (prefix, []))[1].append((name, rest))
     for prefix, users in passes.values():
-        log.write(f"{' -> '.join(type(step).__name__ for _, step in prefix.steps)} of every press, once for "
-                  f"all folds ({', '.join(name for name, _ in users)})")
+        log.write(f"{describe(prefix)} of every press, once for all folds ({', '.join(name for name, _ in users)})")
         try:
             Xt, once = transform_per_press(prefix, X, n_jobs=n_jobs)
         except Exception:  # noqa: BLE001 - the folds run the whole pipelines and report it

@@ -30,7 +30,7 @@ from ..features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatur
 from ..preprocessing import ContactFrameSelector
 from ._peak_baseline import peak_contact_change
 
-__all__ = ["prefix_key", "split_per_press", "transform_per_press"]
+__all__ = ["describe", "prefix_key", "split_per_press", "transform_per_press"]
 
 #: Exact classes (not subclasses, whose ``fit`` may learn) that map each press by itself.
 _PER_PRESS_TYPES = (ContactFrameSelector, ContactProfileFeatures, OpticalFlowFeatures, DINOv2Features)
@@ -67,6 +67,12 @@ def split_per_press(estimator):
     if k == 0:
         return None, estimator
     return estimator[:k], estimator[k:]
+
+
+def describe(prefix):
+    """The steps of ``prefix`` by name, e.g. ``"ContactFrameSelector -> OpticalFlowFeatures"``."""
+    return " -> ".join(step.func.__name__ if type(step) is FunctionTransformer else type(step).__name__
+                       for _, step in prefix.steps)
 
 
 def prefix_key(prefix):

@@ -11,9 +11,8 @@ from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
 from sklearn.utils._param_validation import Interval
 from sklearn.utils.validation import check_is_fitted
 
-from ..utils._validation import roi_slices
 from ..utils._tags import videos_tags
-from ..utils._validation import check_roi, check_video, check_video_sequence
+from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
 
 __all__ = ["ContactProfileFeatures"]
 
