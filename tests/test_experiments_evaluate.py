@@ -391,15 +391,42 @@ def test_per_press_steps_run_once_for_all_folds_with_the_same_results(tiny, monk
         np.testing.assert_array_equal(once.fold_scores[name], per_fold.fold_scores[name])
 
 
+def test_per_press_pass_gives_the_nets_the_same_inputs(tiny, monkeypatch):
+    """The frame selector and frozen DINOv2 features (a tiny random backbone) once for all folds: the same results."""
+    from .test_features_dinov2 import tiny_backbone
+
+    from sklearn_hardness.experiments import _evaluate
+    from sklearn_hardness.models import make_convlstm_pipeline, make_dinov2nn_pipeline
+
+    def nets():
+        return {"convlstm": make_convlstm_pipeline(intensity_channels=True, frame_size=(8, 10), max_epochs=3,
+                                                   random_state=0),
+                "dinov2nn": make_dinov2nn_pipeline(model=tiny_backbone(), frame_size=(28, 28), max_epochs=3,
+                                                   random_state=0)}
+
+    once = evaluate_pipelines(tiny, nets(), cv=3, baseline=False, verbose=0)
+    monkeypatch.setattr(_evaluate, "split_per_press", lambda est: (None, est))
+    per_fold = evaluate_pipelines(tiny, nets(), cv=3, baseline=False, verbose=0)
+    for name in ("convlstm", "dinov2nn"):
+        np.testing.assert_array_equal(once.predictions[name], per_fold.predictions[name])
+        np.testing.assert_array_equal(once.fold_scores[name], per_fold.fold_scores[name])
+
+
 def test_split_per_press_stops_at_the_first_step_that_learns():
     from sklearn_hardness.experiments._per_press import split_per_press
-    from sklearn_hardness.models import make_contact_profile_pipeline, make_convlstm_pipeline, make_ofnn_pipeline
+    from sklearn_hardness.models import (
+        make_contact_profile_pipeline,
+        make_convlstm_pipeline,
+        make_dinov2nn_pipeline,
+        make_ofnn_pipeline,
+    )
 
     steps = {name: [[n for n, _ in part.steps] if part is not None else None for part in split_per_press(est)]
              for name, est in [("cp", make_contact_profile_pipeline()), ("convlstm", make_convlstm_pipeline()),
-                               ("ofnn", make_ofnn_pipeline()), ("peak", make_peak_change_baseline())]}
+                               ("ofnn", make_ofnn_pipeline()), ("dinov2nn", make_dinov2nn_pipeline()),
+                               ("peak", make_peak_change_baseline())]}
     assert steps == {"cp": [["features"], ["scale", "clf"]], "convlstm": [["frames"], ["scale", "clf"]],
-                     "ofnn": [["frames", "features"], ["clf"]],
+                     "ofnn": [["frames", "features"], ["clf"]], "dinov2nn": [["frames", "features"], ["clf"]],
                      "peak": [["functiontransformer"], ["standardscaler", "logisticregression"]]}
     # a transformer that may learn (any other function, a subclass) keeps the pipeline whole
     other = make_pipeline(FunctionTransformer(np.log1p), DummyClassifier())
