@@ -348,7 +348,7 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         seed = int_seed(random_state)
         named = {p: _named_pipeline(p, seed, roi) for p in pipelines}
     if baseline and "peak_change" not in named:
-        named = {"peak_change": make_peak_change_baseline(roi=roi), **named}
+        named = {"peak_change": _named_pipeline("peak_change", roi=roi), **named}
     if not named:
         raise ValueError("no pipelines to evaluate.")
     names = np.asarray(data.target_names)

@@ -34,9 +34,8 @@ _NAMES = (
 
 def _grey_small(video, max_side, roi=None, name="video"):
     video = check_video(video, min_frames=1, name=name)
-    if roi is not None:
-        rows, cols = roi_slices(video.shape[1:3], roi, name)
-        video = video[:, rows, cols]
+    rows, cols = roi_slices(video.shape[1:3], roi, name)  # the whole frame for roi=None
+    video = video[:, rows, cols]
     h, w = video.shape[1:3]
     stride = max(1, max(h, w) // max_side)
     small = video[:, ::stride, ::stride].astype(np.float32)
