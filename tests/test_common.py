@@ -43,7 +43,7 @@ from sklearn.utils import get_tags
 from sklearn.utils import estimator_checks as ec
 
 from sklearn_hardness.active import ActiveLearner
-from sklearn_hardness.features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
+from sklearn_hardness.features import ContactProfileFeatures, DINOv2Features, LoadingCompliance, OpticalFlowFeatures
 from sklearn_hardness.models import (
     ContactProfileNNClassifier,
     ConvLSTMClassifier,
@@ -86,6 +86,7 @@ ESTIMATORS = {
     "FrameScaler": (FrameScaler, "frames"),
     "IntensityChannels": (IntensityChannels, "frames"),
     "ContactProfileFeatures": (lambda: ContactProfileFeatures(), "videos"),
+    "LoadingCompliance": (LoadingCompliance, "force_position"),
     "OFNNClassifier": (_ofnn, "table"),
     "DINOv2NNClassifier": (
         lambda: DINOv2NNClassifier(hidden_units=16, lr=3e-2, max_epochs=5, batch_size=64, random_state=0),
@@ -250,7 +251,17 @@ def _table(n=30, seed=0):
     return X.astype(np.float32), y
 
 
-_DATA = {"videos": _videos, "frames": _frames, "table": _table}
+def _force_position(n=6, seed=0):
+    rng = np.random.default_rng(seed)
+    X = []
+    for i in range(n):  # lengths differ; position = offset + c F^(2/3), noisy force
+        force = np.concatenate([np.zeros(3), np.linspace(0.2, rng.uniform(2, 6), 8 + i), np.full(3, 1.0)])
+        X.append(np.column_stack([force + rng.normal(0, 0.02, len(force)),
+                                  rng.uniform(-5, 5) + (1 + i % 2) * force ** (2 / 3)]))
+    return X, np.arange(n) % 2
+
+
+_DATA = {"videos": _videos, "frames": _frames, "table": _table, "force_position": _force_position}
 
 
 def _data(name, seed=0):

@@ -1,14 +1,19 @@
-"""Feature transformers for selected press frames (n, k, H, W, C).
+"""Feature transformers for press videos, selected frames and a robot's force.
 
 - :class:`OpticalFlowFeatures`: displacements of Shi-Tomasi corners tracked
   with pyramidal Lucas-Kanade (OpenCV), the input of the paper's OFNN.
 - :class:`DINOv2Features`: frozen DINOv2 embeddings of every frame,
   concatenated, the input of the paper's DINOv2NN (needs the optional
   ``transformers`` dependency: ``pip install sklearn-hardness[dinov2]``).
+- :class:`ContactProfileFeatures`: shape- and texture-normalised features of
+  a whole press video's loading phase.
+- :class:`LoadingCompliance`: the compliance of gel and object from the
+  robot's force and position per frame, where they are recorded.
 """
 
 from ._contact_profile import ContactProfileFeatures
 from ._dinov2 import DINOv2Features
+from ._loading_compliance import LoadingCompliance
 from ._optical_flow import OpticalFlowFeatures
 
-__all__ = ["ContactProfileFeatures", "DINOv2Features", "OpticalFlowFeatures"]
+__all__ = ["ContactProfileFeatures", "DINOv2Features", "LoadingCompliance", "OpticalFlowFeatures"]

@@ -38,6 +38,7 @@ from ._pipelines import (
     make_contact_profile_pipeline,
     make_convlstm_pipeline,
     make_dinov2nn_pipeline,
+    make_loading_compliance_pipeline,
     make_ofnn_pipeline,
 )
 from ._stacked import StackedConvLSTMNet
@@ -47,6 +48,7 @@ __all__ = [
     "make_ofnn_pipeline",
     "make_dinov2nn_pipeline",
     "make_contact_profile_pipeline",
+    "make_loading_compliance_pipeline",
     "FrameScaler",
     "IntensityChannels",
     "FrameAugmenter",

@@ -13,13 +13,13 @@ from __future__ import annotations
 
 import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
+from sklearn.impute import SimpleImputer
 from sklearn.pipeline import Pipeline
+from sklearn.preprocessing import FunctionTransformer, StandardScaler
 from sklearn.utils.metaestimators import available_if
 from sklearn.utils.validation import check_is_fitted
 
-from sklearn.preprocessing import StandardScaler
-
-from ..features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
+from ..features import ContactProfileFeatures, DINOv2Features, LoadingCompliance, OpticalFlowFeatures
 from ..preprocessing import ContactFrameSelector
 from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
@@ -36,6 +36,7 @@ __all__ = [
     "make_ofnn_pipeline",
     "make_dinov2nn_pipeline",
     "make_contact_profile_pipeline",
+    "make_loading_compliance_pipeline",
 ]
 
 
@@ -417,3 +418,90 @@ def make_contact_profile_pipeline(*, head="logistic", max_side=80, roi=None, **c
     clf = heads[head](**classifier_params)
     return MCDropoutPipeline([("features", ContactProfileFeatures(max_side=max_side, roi=roi)),
                               ("scale", StandardScaler()), ("clf", clf)])
+
+
+#: Figures at or below this (mm, N, mm/N) are logged as this: a press can fit a
+#: compliance of zero or below when force noise outweighs a rigid object's travel.
+_LOG_FLOOR = 1e-3
+
+
+def _log_positive(X):
+    """Natural log of ``X``, with values under 1e-3 taken as 1e-3 (NaN stays NaN).
+
+    The log step of :func:`make_loading_compliance_pipeline` (a module-level
+    function, so that the pipeline pickles).
+
+    Parameters
+    ----------
+    X : array-like
+
+    Returns
+    -------
+    ndarray
+    """
+    return np.log(np.maximum(np.asarray(X, dtype=np.float64), _LOG_FLOOR))  # maximum keeps NaN; fmax would not
+
+
+def make_loading_compliance_pipeline(*, features=("hertz_compliance",), onset=0.1, **classifier_params):
+    """Force and position per frame -> :class:`~sklearn_hardness.features.LoadingCompliance` -> classifier.
+
+    For presses whose force and position a robot (or gripper) records beside
+    the video. The compliance of gel, object and drive in series, fitted
+    over the loading phase, is logged, imputed where a press is too short
+    to fit (the median of the training presses), scaled, and classified by
+    a balanced logistic regression with ``predict_proba_samples``
+    (:class:`LaplaceLogisticRegression`), so active sampling works with it.
+
+    The default input is the Hertz compliance alone (position against
+    ``F^(2/3)``): it does not depend on the force a press reaches, so a
+    model trained on the simulator's presses of a few newtons carries over
+    to grasps of tens of newtons (``benchmarks/bench_wedge_force.py``
+    measures it on real GelSight Wedge grasps). Figures for the docs come
+    from that benchmark.
+
+    Parameters
+    ----------
+    features : "all" or sequence of str, default=("hertz_compliance",)
+        ``features`` of :class:`~sklearn_hardness.features.LoadingCompliance`.
+    onset : float in (0, 1), default=0.1
+        ``onset`` of :class:`~sklearn_hardness.features.LoadingCompliance`.
+    **classifier_params
+        Passed to :class:`LaplaceLogisticRegression`; ``class_weight``
+        defaults to ``"balanced"`` and ``max_iter`` to 2000.
+
+    Returns
+    -------
+    pipeline : MCDropoutPipeline
+        Steps ``"features"``, ``"log"``, ``"impute"``, ``"scale"``, ``"clf"``.
+
+    See Also
+    --------
+    make_contact_profile_pipeline : What the video alone can do.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.models import make_loading_compliance_pipeline
+    >>> rng = np.random.default_rng(0)
+    >>> force = np.linspace(0.0, 5.0, 30)
+    >>> compliance = {0: 0.5, 1: 1.0, 2: 2.0}  # mm/N^(2/3): hard, moderate, soft
+    >>> y = np.arange(30) % 3
+    >>> X = [np.column_stack([force, compliance[k] * rng.uniform(0.8, 1.2) * force ** (2 / 3)]) for k in y]
+    >>> pipe = make_loading_compliance_pipeline().fit(X, y)
+    >>> pipe.predict([np.column_stack([4 * force, 2.0 * (4 * force) ** (2 / 3)])])  # pushed 4x harder
+    array([2])
+    >>> pipe.predict_proba_samples(X[:2], n_samples=5, random_state=0).shape
+    (5, 2, 3)
+    """
+    unknown = sorted(k for k in classifier_params if k not in LaplaceLogisticRegression().get_params(deep=False))
+    if unknown:
+        raise TypeError(f"LaplaceLogisticRegression takes no parameter(s) {unknown}.")
+    classifier_params.setdefault("class_weight", "balanced")
+    classifier_params.setdefault("max_iter", 2000)
+    return MCDropoutPipeline([
+        ("features", LoadingCompliance(features=features, onset=onset)),
+        ("log", FunctionTransformer(_log_positive, feature_names_out="one-to-one")),
+        ("impute", SimpleImputer(strategy="median")),
+        ("scale", StandardScaler()),
+        ("clf", LaplaceLogisticRegression(**classifier_params)),
+    ])

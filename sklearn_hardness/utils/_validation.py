@@ -12,7 +12,8 @@ import numbers
 
 import numpy as np
 
-__all__ = ["check_video", "check_video_sequence", "check_frames_array", "check_roi", "roi_slices"]
+__all__ = ["check_video", "check_video_sequence", "check_frames_array", "check_roi", "roi_slices",
+           "check_force_position"]
 
 
 def check_video(video, *, name="video", min_frames=1, allow_float=True):
@@ -266,3 +267,49 @@ def roi_slices(shape, roi, name):
     if rows.stop - rows.start < 2 or cols.stop - cols.start < 2:
         raise ValueError(f"roi={roi} leaves fewer than 2x2 pixels of the {h}x{w} frames of {name}.")
     return rows, cols
+
+
+def check_force_position(X, *, name="X"):
+    """Validate presses given as force and position per frame; return a list of (T_i, 2) float arrays.
+
+    Parameters
+    ----------
+    X : sequence of array-like of shape (T_i, 2), or array of shape (n, T, 2)
+        Per press and frame: the force (N) and the position (mm), in that
+        order. Lengths may differ between presses.
+    name : str, default="X"
+        How the input is called in error messages.
+
+    Returns
+    -------
+    presses : list of ndarray of shape (T_i, 2), float64
+
+    Raises
+    ------
+    TypeError
+        If ``X`` is not a sequence of arrays, or a press is not numeric.
+    ValueError
+        If ``X`` is empty, or a press is not (T, 2) with ``T >= 1``, or has
+        a value that is not finite. The message names the press by index.
+    """
+    if isinstance(X, (str, bytes)) or X is None or not hasattr(X, "__len__") or hasattr(X, "toarray"):
+        raise TypeError(f"{name} must be a sequence of (T, 2) arrays of force (N) and position (mm) per frame, "
+                        f"got {type(X).__name__}.")
+    if isinstance(X, np.ndarray) and X.dtype != object and X.ndim != 3:
+        raise ValueError(f"{name} must be a sequence of (T, 2) arrays of force (N) and position (mm) per frame, "
+                         f"or an (n, T, 2) array; got an array of shape {X.shape}. For one press, pass [press].")
+    if len(X) == 0:
+        raise ValueError(f"{name} holds no presses.")
+    presses = []
+    for i in range(len(X)):
+        press = np.asarray(X[i])
+        if press.dtype.kind not in "biuf":
+            raise TypeError(f"{name}[{i}] must be numeric (force in N, position in mm), got dtype {press.dtype}.")
+        if press.ndim != 2 or press.shape[1] != 2 or press.shape[0] < 1:
+            raise ValueError(f"{name}[{i}] must have shape (T, 2): force (N) and position (mm) per frame, "
+                             f"with T >= 1; got shape {press.shape}. Build it with "
+                             "np.column_stack([force, position]).")
+        if not np.isfinite(press).all():
+            raise ValueError(f"{name}[{i}] has values that are not finite (NaN or inf) in its force or position.")
+        presses.append(press.astype(np.float64))
+    return presses

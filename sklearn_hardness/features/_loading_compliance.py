@@ -1,0 +1,197 @@
+"""A press's compliance from the robot's force and position over its loading phase: :class:`LoadingCompliance`."""
+
+from __future__ import annotations
+
+import numbers
+import warnings
+
+import numpy as np
+from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
+from sklearn.utils._param_validation import Interval, StrOptions
+from sklearn.utils.validation import check_is_fitted
+
+from ..utils._tags import force_position_tags
+from ..utils._validation import check_force_position
+from ..utils._warnings import external_stacklevel
+
+__all__ = ["LoadingCompliance"]
+
+#: Every feature, in output order when ``features="all"``.
+FEATURE_NAMES = ("hertz_compliance", "linear_compliance", "travel", "peak_force")
+
+#: Exponent of the Hertz law ``delta = c F^(2/3)`` (``F`` grows as ``delta^(3/2)``).
+_HERTZ = 2.0 / 3.0
+
+
+def _loading_figures(press, onset, min_frames):
+    """The four figures of one (T, 2) press; NaN where its loading phase is too short to fit."""
+    force, position = press[:, 0], press[:, 1]
+    peak = int(np.argmax(force))
+    f_peak = float(force[peak])
+    if f_peak <= 0.0:
+        return np.array([np.nan, np.nan, np.nan, f_peak])
+    start = int(np.argmax(force > onset * f_peak))  # <= peak: the peak itself exceeds the onset
+    f, z = np.clip(force[start:peak + 1], 0.0, None), position[start:peak + 1]
+    travel = float(z[-1] - z[0])
+    if peak - start + 1 < min_frames or np.ptp(f) == 0.0:
+        return np.array([np.nan, np.nan, travel, f_peak])
+    hertz = float(np.polyfit(f ** _HERTZ, z, 1)[0])
+    linear = float(np.polyfit(f, z, 1)[0])
+    return np.array([hertz, linear, travel, f_peak])
+
+
+class LoadingCompliance(TransformerMixin, BaseEstimator):
+    """How far the sensor moves into the object per unit force while it loads.
+
+    For a robot (or gripper) that records its force and position at each
+    frame, the most direct measure of hardness: a soft object lets the
+    sensor travel further for the same force. Per press, the loading phase
+    runs from the first frame whose force exceeds ``onset`` times the peak
+    force to the peak. Over it:
+
+    - ``hertz_compliance``: the least-squares slope of the position against
+      ``F^(2/3)``, in mm per N^(2/3). In Hertz contact a dome indents as
+      ``delta = c F^(2/3)``, so this is the compliance ``c`` quoted at 1 N
+      (the unit of the simulator's compliances), of gel, object and drive in
+      series. Unlike the slope against ``F``, it does not grow stiffer with
+      the force a robot pushes to, so a model trained at a few newtons
+      carries over to grasps at tens of newtons.
+    - ``linear_compliance``: the slope of the position against ``F``, mm/N.
+    - ``travel``: the position's advance over the loading phase, mm.
+    - ``peak_force``: the peak force, N.
+
+    A press whose loading phase has fewer than ``min_loading_frames`` frames
+    (a video cut short) or no positive force gets NaN for the figures it
+    cannot fit, with a warning that names it; put an imputer after this
+    step (:func:`~sklearn_hardness.models.make_loading_compliance_pipeline`
+    does).
+
+    Parameters
+    ----------
+    features : "all" or sequence of str, default="all"
+        Which figures to output, in this order; ``"all"`` is
+        ``hertz_compliance, linear_compliance, travel, peak_force``.
+    onset : float in (0, 1), default=0.1
+        The loading phase starts where the force first exceeds this share of
+        its peak (below it, force noise dominates).
+    min_loading_frames : int, default=3
+        Fewest frames of loading to fit a slope.
+
+    Attributes
+    ----------
+    features_ : tuple of str
+        The output figures, in order.
+    n_features_out_ : int
+        Their number.
+
+    See Also
+    --------
+    sklearn_hardness.models.make_loading_compliance_pipeline : This step, a
+        log, an imputer, a scaler and a logistic regression.
+    sklearn_hardness.features.ContactProfileFeatures : What the video alone
+        tells of the loading phase.
+
+    Notes
+    -----
+    Each press is an array of shape ``(T, 2)``: the force (N) and the position
+    (mm) per frame, the position growing as the sensor moves into the object
+    (for a robot arm, its advance along the press axis; for a parallel
+    gripper, the closing: its width at the start minus its width). Any offset
+    is allowed. Build it with ``np.column_stack([force, position])``.
+    ``sklearn_hardness.datasets.make_presses(..., return_mechanics=True)``
+    gives both for simulated presses (``force`` and ``mechanics[i]["position"]``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_hardness.features import LoadingCompliance
+    >>> force = np.linspace(0.0, 4.0, 20)
+    >>> soft = np.column_stack([force, 2.0 * force ** (2 / 3)])  # c = 2 mm/N^(2/3)
+    >>> hard = np.column_stack([force, 0.5 * force ** (2 / 3)])
+    >>> LoadingCompliance(features=["hertz_compliance"]).fit_transform([soft, hard]).round(3)
+    array([[2. ],
+           [0.5]])
+    """
+
+    _parameter_constraints: dict = {
+        "features": [StrOptions({"all"}), list, tuple],
+        "onset": [Interval(numbers.Real, 0, 1, closed="neither")],
+        "min_loading_frames": [Interval(numbers.Integral, 2, None, closed="left")],
+    }
+
+    def __init__(self, features="all", onset=0.1, min_loading_frames=3):
+        self.features = features
+        self.onset = onset
+        self.min_loading_frames = min_loading_frames
+
+    def _columns(self):
+        if isinstance(self.features, str):
+            return FEATURE_NAMES
+        features = tuple(self.features)
+        unknown = [f for f in features if f not in FEATURE_NAMES]
+        if unknown or not features:
+            raise ValueError(f"features must be 'all' or a non-empty sequence of {list(FEATURE_NAMES)}; "
+                             f"got unknown {unknown}." if unknown else "features must not be empty.")
+        return features
+
+    @_fit_context(prefer_skip_nested_validation=True)
+    def fit(self, X, y=None):
+        """Check the parameters and the input (stateless otherwise).
+
+        Parameters
+        ----------
+        X : sequence of array-like of shape (T, 2)
+            Per press, the force (N) and position (mm) of each frame.
+        y : ignored
+
+        Returns
+        -------
+        self : LoadingCompliance
+        """
+        self.features_ = self._columns()
+        check_force_position(X)
+        self.n_features_out_ = len(self.features_)
+        return self
+
+    def transform(self, X):
+        """Compute the figures of each press.
+
+        Parameters
+        ----------
+        X : sequence of array-like of shape (T, 2)
+            Per press, the force (N) and position (mm) of each frame.
+
+        Returns
+        -------
+        figures : ndarray of shape (n_presses, n_features_out_), float64
+            NaN where a press's loading phase is too short (with a warning).
+        """
+        check_is_fitted(self)
+        presses = check_force_position(X)
+        rows = np.vstack([_loading_figures(p, self.onset, self.min_loading_frames) for p in presses])
+        out = rows[:, [FEATURE_NAMES.index(f) for f in self.features_]]
+        bad = np.flatnonzero(np.isnan(out).any(axis=1))
+        if len(bad):
+            shown = ", ".join(map(str, bad[:10])) + (", ..." if len(bad) > 10 else "")
+            warnings.warn(
+                f"{len(bad)} of {len(presses)} presses (X[{shown}]) have no positive force or fewer than "
+                f"{self.min_loading_frames} frames from {self.onset:g} of their peak force to the peak; "
+                "their figures are NaN.", UserWarning, stacklevel=external_stacklevel())
+        return out
+
+    def get_feature_names_out(self, input_features=None):
+        """Names of the output figures.
+
+        Parameters
+        ----------
+        input_features : ignored
+
+        Returns
+        -------
+        names : ndarray of str
+        """
+        check_is_fitted(self)
+        return np.array(self.features_, dtype=object)
+
+    def __sklearn_tags__(self):
+        return force_position_tags(super().__sklearn_tags__())

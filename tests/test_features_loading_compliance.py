@@ -1,0 +1,179 @@
+"""Tests of LoadingCompliance and make_loading_compliance_pipeline (force and position per frame)."""
+
+import pickle
+import warnings
+
+import numpy as np
+import pytest
+from sklearn.base import clone
+from sklearn.model_selection import GroupKFold, cross_val_score
+
+from sklearn_hardness.datasets import make_presses
+from sklearn_hardness.features import LoadingCompliance
+from sklearn_hardness.models import make_loading_compliance_pipeline
+from sklearn_hardness.models._pipelines import _log_positive
+
+#: Hertz compliance (mm per N^(2/3)) of the three classes: hard, moderate, soft.
+COMPLIANCE = np.array([0.5, 1.0, 2.0])
+
+
+def hertz_press(c, f_peak, *, n_before=5, n_load=20, n_hold=6, offset=3.0, c_drive=0.0, noise=0.0, rng=None):
+    """A press of a Hertz object: position = offset + c F^(2/3) + c_drive F, force 0 before contact.
+
+    The force rises linearly to ``f_peak`` over ``n_load`` frames, holds, then falls back;
+    ``noise`` is the s.d. of the recorded force (N).
+    """
+    load = np.linspace(0.0, f_peak, n_load + 1)[1:]
+    force = np.concatenate([np.zeros(n_before), load, np.full(n_hold, f_peak), load[::-1][1:]])
+    position = offset + c * force ** (2 / 3) + c_drive * force
+    position[:n_before] = offset - np.linspace(2.0, 0.1, n_before)  # still approaching: no force
+    if noise:
+        force = force + (rng or np.random.default_rng(0)).normal(0.0, noise, len(force))
+    return np.column_stack([force, position])
+
+
+def presses(n, forces, seed=0, spread=0.1):
+    """``n`` presses, classes cycling hard-moderate-soft, peak force ~ U[forces], compliance spread ~ 10%."""
+    rng = np.random.default_rng(seed)
+    y = np.arange(n) % 3
+    X = [hertz_press(COMPLIANCE[k] * np.exp(spread * rng.standard_normal()), rng.uniform(*forces),
+                     n_load=int(rng.integers(8, 30)), offset=rng.uniform(-5, 5), c_drive=0.05)
+         for k in y]
+    return X, y
+
+
+def test_recovers_the_hertz_compliance_of_a_noise_free_press():
+    X = [hertz_press(c, f) for c, f in [(0.5, 3.0), (2.0, 3.0), (1.0, 25.0)]]
+    F = LoadingCompliance().fit_transform(X)
+    np.testing.assert_allclose(F[:, 0], [0.5, 2.0, 1.0], rtol=1e-10)
+    np.testing.assert_allclose(F[:, 3], [3.0, 3.0, 25.0])
+    # travel: from the first frame above 10% of the peak force to the peak
+    for row, press in zip(F, X):
+        force, pos = press[:, 0], press[:, 1]
+        start, peak = np.argmax(force > 0.1 * force.max()), np.argmax(force)
+        assert row[2] == pytest.approx(pos[peak] - pos[start])
+
+
+def test_hertz_compliance_does_not_depend_on_the_force_reached_but_the_linear_slope_does():
+    """The reason it is the default: one object pushed to 2 N and to 25 N."""
+    light, firm = LoadingCompliance().fit_transform([hertz_press(1.0, 2.0), hertz_press(1.0, 25.0)])
+    assert light[0] == pytest.approx(firm[0], rel=1e-10)
+    assert firm[1] < 0.5 * light[1]  # the linear compliance stiffens with force: (25/2)^(-1/3) = 0.43
+
+
+def test_a_drive_spring_and_an_offset_add_nothing_to_the_hertz_compliance():
+    base = LoadingCompliance(features=["hertz_compliance"]).fit_transform([hertz_press(1.0, 4.0)])
+    shifted = LoadingCompliance(features=["hertz_compliance"]).fit_transform([hertz_press(1.0, 4.0, offset=-40.0)])
+    np.testing.assert_allclose(shifted, base, rtol=1e-10)
+    stiff_drive, soft_drive = LoadingCompliance(features=["linear_compliance"]).fit_transform(
+        [hertz_press(1.0, 4.0, c_drive=0.0), hertz_press(1.0, 4.0, c_drive=0.2)])
+    assert soft_drive[0] == pytest.approx(stiff_drive[0] + 0.2, rel=0.05)
+
+
+def test_features_select_and_order_the_output_columns():
+    X = [hertz_press(1.0, 4.0)]
+    full = LoadingCompliance().fit(X)
+    assert full.get_feature_names_out().tolist() == ["hertz_compliance", "linear_compliance", "travel",
+                                                     "peak_force"]
+    two = LoadingCompliance(features=("peak_force", "hertz_compliance")).fit(X)
+    assert two.get_feature_names_out().tolist() == ["peak_force", "hertz_compliance"]
+    np.testing.assert_array_equal(two.transform(X), full.transform(X)[:, [3, 0]])
+    assert two.n_features_out_ == 2
+
+
+def test_a_short_loading_phase_gives_nan_with_a_warning_that_names_the_press():
+    X = [hertz_press(1.0, 4.0), hertz_press(1.0, 4.0, n_load=1), np.zeros((5, 2))]
+    est = LoadingCompliance().fit(X)
+    with pytest.warns(UserWarning, match=r"2 of 3 presses \(X\[1, 2\]\)"):
+        F = est.transform(X)
+    assert np.isfinite(F[0]).all()
+    assert np.isnan(F[1, :2]).all() and F[1, 3] == 4.0  # one loading frame: no slope, but a peak
+    assert np.isnan(F[2, :3]).all() and F[2, 3] == 0.0  # no force at all
+
+
+@pytest.mark.parametrize("X, error, match", [
+    ("presses", TypeError, "sequence of \\(T, 2\\) arrays"),
+    (None, TypeError, "sequence of \\(T, 2\\) arrays"),
+    (np.zeros((10, 2)), ValueError, "For one press, pass \\[press\\]"),
+    ([], ValueError, "no presses"),
+    ([np.zeros((10, 2)), np.zeros((10, 3))], ValueError, "X\\[1\\] must have shape \\(T, 2\\)"),
+    ([np.zeros((0, 2))], ValueError, "X\\[0\\] must have shape"),
+    ([np.array([[0.0, 1.0], [np.nan, 2.0]])], ValueError, "X\\[0\\] has values that are not finite"),
+    ([np.array([["a", "b"]])], TypeError, "X\\[0\\] must be numeric"),
+])
+def test_bad_input_is_an_error_that_names_it(X, error, match):
+    with pytest.raises(error, match=match):
+        LoadingCompliance().fit(X)
+
+
+@pytest.mark.parametrize("params, match", [
+    (dict(features=["hertz_compliance", "stiffness"]), "unknown \\['stiffness'\\]"),
+    (dict(features=[]), "must not be empty"),
+    (dict(onset=1.0), "onset"),
+    (dict(min_loading_frames=1), "min_loading_frames"),
+])
+def test_bad_parameters_are_errors_at_fit(params, match):
+    est = LoadingCompliance(**params)  # __init__ only stores
+    with pytest.raises(ValueError, match=match):
+        est.fit([hertz_press(1.0, 4.0)])
+
+
+def test_the_log_step_keeps_nan_for_the_imputer():
+    out = _log_positive(np.array([[np.nan], [0.0], [-1.0], [np.e]]))
+    assert np.isnan(out[0, 0])
+    np.testing.assert_allclose(out[1:, 0], [np.log(1e-3), np.log(1e-3), 1.0])
+
+
+def test_trained_at_a_few_newtons_the_pipeline_classifies_grasps_of_tens_of_newtons():
+    """The effect of the Hertz compliance: the force scale of training need not be the user's."""
+    X_train, y_train = presses(60, forces=(1.0, 6.0), seed=0)
+    X_test, y_test = presses(30, forces=(20.0, 25.0), seed=1)
+    hertz = make_loading_compliance_pipeline().fit(X_train, y_train)
+    assert (hertz.predict(X_test) == y_test).mean() >= 0.9
+    linear = make_loading_compliance_pipeline(features=["linear_compliance"]).fit(X_train, y_train)
+    assert (linear.predict(X_test) == y_test).mean() <= 0.7  # stiffer at 25 N: softer classes read harder
+    assert (linear.predict(X_test) <= y_test).all()
+
+
+def test_short_presses_are_imputed_and_leave_the_others_classified():
+    X, y = presses(60, forces=(1.0, 6.0), seed=0)
+    X = list(X)
+    for i in range(0, 60, 10):  # one press in ten cut to a single loading frame
+        X[i] = hertz_press(COMPLIANCE[y[i]], 4.0, n_load=1)
+    pipe = make_loading_compliance_pipeline()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        pipe.fit(X, y)
+        pred = pipe.predict(X)
+    full = np.ones(60, bool)
+    full[::10] = False
+    assert (pred[full] == y[full]).mean() >= 0.95
+
+
+def test_pipeline_gives_posterior_samples_and_pickles():
+    X, y = presses(30, forces=(1.0, 6.0))
+    pipe = make_loading_compliance_pipeline(C=0.5).fit(X, y)
+    assert [name for name, _ in pipe.steps] == ["features", "log", "impute", "scale", "clf"]
+    samples = pipe.predict_proba_samples(X[:4], n_samples=7, random_state=0)
+    assert samples.shape == (7, 4, 3)
+    np.testing.assert_allclose(samples.sum(axis=-1), 1.0)
+    np.testing.assert_allclose(pickle.loads(pickle.dumps(pipe)).predict_proba(X), pipe.predict_proba(X))
+    assert clone(pipe).get_params()["clf__C"] == 0.5
+    with pytest.raises(TypeError, match="max_epochs"):
+        make_loading_compliance_pipeline(max_epochs=5)
+
+
+def test_on_simulated_presses_of_new_objects_it_beats_the_peak_force_alone():
+    """Object-disjoint on the ``everyday`` preset (its force and the drive's position; videos unused)."""
+    data = make_presses("everyday", random_state=0, return_mechanics=True)
+    X = [np.column_stack([f, m["position"]]) for f, m in zip(data.force, data.mechanics)]
+    cv = GroupKFold(5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)  # the preset's cut-short videos
+        scores = {
+            name: cross_val_score(make_loading_compliance_pipeline(features=[name]), X, data.target,
+                                  groups=data.object_id, cv=cv, scoring="balanced_accuracy").mean()
+            for name in ("hertz_compliance", "peak_force")
+        }
+    assert scores["hertz_compliance"] >= 0.75
+    assert scores["hertz_compliance"] >= scores["peak_force"] + 0.25
