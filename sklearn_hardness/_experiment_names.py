@@ -11,8 +11,10 @@ Nothing here may import anything beyond the standard library.
 #: Classifiers selectable by name in the experiments (``model=...``, ``reproduce --model``).
 MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn", "contact_profile")
 
-#: Pipelines ``evaluate`` knows by name (``"peak_change"`` is the one-number baseline).
-PIPELINE_NAMES = ("peak_change", "contact_profile", "contact_profile_nn", "convlstm", "ofnn", "dinov2nn")
+#: Pipelines ``evaluate`` knows by name (``"peak_change"`` is the one-number baseline;
+#: ``"loading_compliance"`` reads each press's force and position, not its video).
+PIPELINE_NAMES = ("peak_change", "contact_profile", "contact_profile_nn", "convlstm", "ofnn", "dinov2nn",
+                  "loading_compliance")
 #: What ``evaluate`` runs by default: the inputs that carry over to new objects on real recordings first.
 DEFAULT_PIPELINES = ("contact_profile", "contact_profile_nn", "convlstm", "ofnn")
 

@@ -9,7 +9,7 @@ from ._synthetic import synthetic_press
 
 
 def _write_dataset(root, n_per_class=3, labels=("soft", "hard"), hardness=(1.13, 0.44)):
-    rows = ["path,label,hardness,hardness_unit,object_id,force_path,timestamps_path,fps,operator"]
+    rows = ["path,label,hardness,hardness_unit,object_id,force_path,timestamps_path,position_path,fps,operator"]
     videos = []
     for c, (label, h) in enumerate(zip(labels, hardness)):
         for j in range(n_per_class):
@@ -18,9 +18,10 @@ def _write_dataset(root, n_per_class=3, labels=("soft", "hard"), hardness=(1.13,
             write_video(root / name, video)
             np.save(root / f"videos/{label}_{j}_force.npy", np.linspace(0, 3, len(video)))
             (root / f"videos/{label}_{j}_t.txt").write_text("\n".join(str(t / 25) for t in range(len(video))))
+            np.save(root / f"videos/{label}_{j}_z.npy", h * np.linspace(0, 3, len(video)) ** (2 / 3))
             rows.append(
                 f"{name},{label},{h},mm/N,{label}-cast{j % 2},videos/{label}_{j}_force.npy,"
-                f"videos/{label}_{j}_t.txt,25,alice"
+                f"videos/{label}_{j}_t.txt,videos/{label}_{j}_z.npy,25,alice"
             )
             videos.append(video)
     (root / "manifest.csv").write_text("\n".join(rows) + "\n")
@@ -39,6 +40,7 @@ def test_load_round_trip(tmp_path):
     for i, video in enumerate(videos):
         np.testing.assert_array_equal(data.videos[i], video)  # FFV1 is lossless
         assert len(data.force[i]) == len(video) and len(data.timestamps[i]) == len(video)
+        np.testing.assert_array_equal(data.position[i], np.load(data.paths[i].with_name(f"{data.paths[i].stem}_z.npy")))
     assert data.object_id[0] == "soft-cast0"
     assert data.metadata == {"operator": ["alice"] * 6}
     np.testing.assert_allclose(data.fps, 25)
@@ -73,11 +75,12 @@ def test_missing_files_are_all_listed(tmp_path):
     (tmp_path / "videos/soft_0.avi").unlink()
     (tmp_path / "videos/hard_2.avi").unlink()
     (tmp_path / "videos/hard_1_force.npy").unlink()
+    (tmp_path / "videos/soft_2_z.npy").unlink()
     with pytest.raises(FileNotFoundError) as exc:
         load_press_videos(manifest)
     msg = str(exc.value)
-    assert "3 missing" in msg
-    for name in ("soft_0.avi", "hard_2.avi", "hard_1_force.npy"):
+    assert "4 missing" in msg
+    for name in ("soft_0.avi", "hard_2.avi", "hard_1_force.npy", "soft_2_z.npy"):
         assert name in msg
 
 

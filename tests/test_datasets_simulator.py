@@ -291,6 +291,7 @@ def test_cli_simulate_round_trip(tmp_path, fmt, exact):
     for i in range(len(data.videos)):
         np.testing.assert_array_equal(loaded.force[i], data.force[i])
         np.testing.assert_array_equal(loaded.timestamps[i], data.timestamps[i])
+        np.testing.assert_array_equal(loaded.position[i], data.position[i])
         a, b = loaded.videos[i], data.videos[i]
         assert a.shape == b.shape
         if exact:
@@ -636,3 +637,19 @@ def test_everyday_object_rounding_flattens_compliant_edges_not_rigid_ones():
     assert max(ratio["moderate"]) < 1.0 and min(ratio["moderate"]) < 0.75, ratio  # a cable is round already
     with pytest.raises(ValueError, match="object_rounding"):
         make_presses("everyday", object_rounding=-1.0)
+
+
+def test_position_is_the_sensors_zero_at_contact_and_the_approach_in_contact():
+    """What encoders measure: the commanded position less the drive's give, the approach once in contact."""
+    data = make_presses(n_per_class=2, image_size=SMALL, random_state=0, return_mechanics=True)
+    c_drive = data.params["drive_compliance"]
+    assert c_drive > 0  # so that commanded and measured positions differ
+    for force, position, mech in zip(data.force, data.position, data.mechanics):
+        assert position.shape == force.shape
+        np.testing.assert_array_equal(position, mech["sensor_position"])
+        np.testing.assert_allclose(position, mech["position"] - c_drive * mech["force_true"])
+        peak = int(np.argmax(mech["force_true"]))
+        assert position[0] < 0 < position[peak]  # in the air first (a gap), then into the object
+        in_contact = mech["force_true"] > 0
+        np.testing.assert_allclose(position[in_contact], mech["approach"][in_contact])
+        assert (position[in_contact] > 0).all() and (position[~in_contact] <= 0).all()

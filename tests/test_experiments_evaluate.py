@@ -348,6 +348,9 @@ def test_roi_reaches_the_baseline_and_every_named_pipeline():
 
     for name in PIPELINE_NAMES:
         params = _named_pipeline(name, 0, FRAMED_GEL).get_params()
+        if name == "loading_compliance":  # force and position: no frames to read
+            assert not any(k.endswith("__roi") for k in params), name
+            continue
         read = [v for k, v in params.items() if k.endswith("__roi")] or [params["functiontransformer__kw_args"]["roi"]]
         assert read == [FRAMED_GEL], name
     rng = np.random.default_rng(1)
@@ -453,3 +456,60 @@ def test_plot_confusion_matrices_draws_one_row_normalised_matrix_per_pipeline(tm
     assert len(axes) == len(result.confusion) == 2
     shown = np.asarray(axes[0].images[0].get_array())
     np.testing.assert_allclose(shown.sum(axis=1), 1.0)  # recall per true class
+
+
+def test_loading_compliance_reads_force_and_position_on_the_same_folds(tiny):
+    """By name or in a dict (first step LoadingCompliance), it gets each press's (T, 2) force and position."""
+    from sklearn_hardness.features import LoadingCompliance
+    from sklearn_hardness.models import make_loading_compliance_pipeline
+
+    seen = []
+
+    class Spy(LoadingCompliance):
+        def fit(self, X, y=None):
+            seen.append(X)
+            return super().fit(X, y)
+
+    spied = make_loading_compliance_pipeline()
+    spied.steps[0] = ("features", Spy(features=["hertz_compliance"]))
+    result = evaluate_pipelines(tiny, {"spied": spied, "named": make_loading_compliance_pipeline()}, cv=3,
+                                verbose=0)
+    by_name = {row["pipeline"]: row for row in result.table}
+    np.testing.assert_array_equal(result.fold_scores["spied"], result.fold_scores["named"])
+    assert all(np.isfinite(result.fold_scores["named"])) and by_name["named"]["error"] is None
+    assert by_name["named"]["predict_proba_samples"]
+    first_train = result.folds[0]  # fold 0's test presses; its training presses are the rest
+    expected = [np.column_stack([tiny.force[i], tiny.position[i]]) for i in range(len(tiny.target))
+                if i not in set(first_train)]
+    assert len(seen[0]) == len(expected)
+    for got, want in zip(seen[0], expected):
+        np.testing.assert_array_equal(got, want)
+    # the force and the sensor's position tell new objects apart better than the video's one number
+    assert by_name["named"]["balanced_accuracy"] > by_name["peak_change"]["balanced_accuracy"]
+
+
+def test_loading_compliance_without_position_is_an_error_that_says_what_to_give(tiny):
+    no_position = Bunch(**{k: v for k, v in tiny.items() if k != "position"})
+    with pytest.raises(ValueError, match="force_path and position_path"):
+        evaluate_pipelines(no_position, ["loading_compliance"], cv=3, verbose=0)
+    cut = Bunch(**tiny)
+    cut.position = [p[:-1] if i == 4 else p for i, p in enumerate(tiny.position)]
+    with pytest.raises(ValueError, match="press 4 has .* force values but .* positions"):
+        evaluate_pipelines(cut, ["loading_compliance"], cv=3, verbose=0)
+
+
+def test_cli_evaluates_loading_compliance_on_a_simulated_manifest(tmp_path, capsys):
+    root = tmp_path / "presses"
+    assert main(["simulate", "--preset", "everyday", "--out", str(root), "--n-per-class", "1",
+                 "--image-size", "32", "40", "--format", "npy", "--codec", "none", "--quiet"]) == 0
+    assert main(["evaluate", str(root), "--pipelines", "loading_compliance", "--cv", "3", "--quiet",
+                 "--out", str(tmp_path / "out")]) == 0
+    assert "loading_compliance" in capsys.readouterr().out
+    manifest = root / "manifest.csv"  # the same presses without the position column
+    lines = manifest.read_text().splitlines()
+    drop = lines[0].split(",").index("position_path")
+    manifest.write_text("\n".join(",".join(c for j, c in enumerate(line.split(",")) if j != drop)
+                                  for line in lines) + "\n")
+    with pytest.raises(SystemExit, match="2"):
+        main(["evaluate", str(root), "--pipelines", "loading_compliance", "--cv", "3", "--quiet"])
+    assert "force_path and position_path" in capsys.readouterr().err

@@ -111,6 +111,7 @@ def test_bad_input_is_an_error_that_names_it(X, error, match):
     (dict(features=[]), "must not be empty"),
     (dict(onset=1.0), "onset"),
     (dict(min_loading_frames=1), "min_loading_frames"),
+    (dict(drive_compliance=-0.1), "drive_compliance"),
 ])
 def test_bad_parameters_are_errors_at_fit(params, match):
     est = LoadingCompliance(**params)  # __init__ only stores
@@ -164,9 +165,9 @@ def test_pipeline_gives_posterior_samples_and_pickles():
 
 
 def test_on_simulated_presses_of_new_objects_it_beats_the_peak_force_alone():
-    """Object-disjoint on the ``everyday`` preset (its force and the drive's position; videos unused)."""
-    data = make_presses("everyday", random_state=0, return_mechanics=True)
-    X = [np.column_stack([f, m["position"]]) for f, m in zip(data.force, data.mechanics)]
+    """Object-disjoint on the ``everyday`` preset (its force and the sensor's position; videos unused)."""
+    data = make_presses("everyday", random_state=0)
+    X = [np.column_stack([f, z]) for f, z in zip(data.force, data.position)]
     cv = GroupKFold(5)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)  # the preset's cut-short videos
@@ -177,3 +178,32 @@ def test_on_simulated_presses_of_new_objects_it_beats_the_peak_force_alone():
         }
     assert scores["hertz_compliance"] >= 0.75
     assert scores["hertz_compliance"] >= scores["peak_force"] + 0.25
+
+
+def test_drive_compliance_takes_a_commanded_positions_give_off():
+    """An impedance controller's setpoint runs ahead of the sensor by c_drive F; given it, the fit is exact again."""
+    commanded = [hertz_press(1.0, f, c_drive=0.3) for f in (2.0, 25.0)]
+    raw = LoadingCompliance(features=["hertz_compliance"]).fit_transform(commanded)[:, 0]
+    assert raw[1] > raw[0] + 0.3  # left in, the drive's give reads as a softer object at higher force
+    fixed = LoadingCompliance(features=["hertz_compliance"], drive_compliance=0.3).fit_transform(commanded)[:, 0]
+    np.testing.assert_allclose(fixed, [1.0, 1.0], rtol=1e-10)
+
+
+def test_trained_on_the_simulator_it_classifies_presses_pushed_four_times_harder():
+    """The simulator's own check of the force-scale argument: everyday at 1-6 N against 15-25 N."""
+    from sklearn.metrics import balanced_accuracy_score
+
+    def force_position(data):
+        return [np.column_stack([f, z]) for f, z in zip(data.force, data.position)]
+
+    train = make_presses("everyday", random_state=0)
+    firm = make_presses("everyday", random_state=1, force_range=(15.0, 25.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        scores = {name: balanced_accuracy_score(
+            firm.target,
+            make_loading_compliance_pipeline(features=[name]).fit(force_position(train), train.target)
+            .predict(force_position(firm)))
+            for name in ("hertz_compliance", "linear_compliance")}
+    assert scores["hertz_compliance"] >= 0.85
+    assert scores["hertz_compliance"] >= scores["linear_compliance"] + 0.08

@@ -43,7 +43,7 @@ def _add_evaluate(sub):
                    "the compute (default 1): the figures depend less on one assignment; the intervals "
                    "run over all repetitions' folds, corrected for their overlap, with the degrees of "
                    "freedom of one repetition (more objects narrow them, repetitions little)")
-    _add_roi(p, "in the baseline and every pipeline")
+    _add_roi(p, "in the baseline and every video pipeline")
     p.add_argument("--out", default="hardness_evaluation",
                    help="folder for evaluation.json and confusion_matrices.png (default ./hardness_evaluation)")
     p.add_argument("--seed", type=_nonnegative_int, default=0, help="seed of the folds and of a preset (default 0)")

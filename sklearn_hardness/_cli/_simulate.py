@@ -21,7 +21,7 @@ def _add_simulate(sub):
         "simulate",
         help="simulate GelSight press videos and write them with a manifest",
         description="Simulate a press dataset with sklearn_hardness.datasets.make_presses and write "
-        "one video per press, per-frame force and timestamps (.npy) and a manifest.csv that "
+        "one video per press, per-frame force, timestamps and sensor position (.npy) and a manifest.csv that "
         "sklearn_hardness.datasets.load_press_videos reads back. Default format: lossless FFV1 "
         "in .avi (bit-exact round trip); mp4 uses the lossy MPEG-4 'mp4v' codec.",
     )
@@ -68,7 +68,7 @@ def _run_simulate(args):
         data = make_presses(args.preset, args.n_per_class, markers=False if args.no_markers else None,
                             image_size=tuple(args.image_size), codec=codec, random_state=args.seed)
     root = Path(args.out)
-    for sub in ("videos", "force", "timestamps"):
+    for sub in ("videos", "force", "timestamps", "position"):
         (root / sub).mkdir(parents=True, exist_ok=True)
     n = len(data.videos)
     names = [f"press_{i:04d}" for i in range(n)]
@@ -86,14 +86,15 @@ def _run_simulate(args):
     with open(root / "manifest.csv", "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["path", "label", "hardness", "hardness_unit", "object_id", "force_path",
-                    "timestamps_path", "fps"] + extra)
+                    "timestamps_path", "position_path", "fps"] + extra)
         for i, name in enumerate(names):
             np.save(root / "force" / f"{name}.npy", data.force[i])
             np.save(root / "timestamps" / f"{name}.npy", data.timestamps[i])
+            np.save(root / "position" / f"{name}.npy", data.position[i])
             t = data.target[i]
             w.writerow([f"videos/{name}{ext}", data.target_names[t], repr(float(data.hardness[t])),
                         data.hardness_unit, data.object_id[i], f"force/{name}.npy",
-                        f"timestamps/{name}.npy", f"{data.fps:g}"]
+                        f"timestamps/{name}.npy", f"position/{name}.npy", f"{data.fps:g}"]
                        + [f"{pp[k][i]:.6g}" for k in extra])
     codec = {"avi": "FFV1, lossless", "mp4": "mp4v, lossy", "png": "PNG, lossless", "npy": "raw"}
     if not args.quiet:

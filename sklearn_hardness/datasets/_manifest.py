@@ -17,7 +17,8 @@ from ._lazy import LazyVideoSequence
 __all__ = ["load_press_videos"]
 
 _REQUIRED = ("path", "label")
-_KNOWN = _REQUIRED + ("hardness", "hardness_unit", "object_id", "force_path", "timestamps_path", "fps")
+_KNOWN = _REQUIRED + ("hardness", "hardness_unit", "object_id", "force_path", "timestamps_path", "position_path",
+                      "fps")
 
 
 def _read_series(path):
@@ -85,9 +86,11 @@ def load_press_videos(manifest, *, cache_size=0):
         Optional columns: ``hardness`` (the class's hardness value, equal
         for all rows of a label), ``hardness_unit`` (e.g. ``mm/N`` or
         ``Shore 00``), ``object_id`` (which physical object was pressed),
-        ``force_path`` and ``timestamps_path`` (per-frame force in N and
-        time in s, as ``.npy`` or text files with one number per line),
-        ``fps``. Other columns are returned in ``metadata``. Empty cells
+        ``force_path``, ``timestamps_path`` and ``position_path`` (per-frame
+        force in N, time in s and the robot's position in mm, growing as the
+        sensor moves into the object, as ``.npy`` or text files with one
+        number per line; force and position are the input of
+        :class:`~sklearn_hardness.features.LoadingCompliance`), ``fps``. Other columns are returned in ``metadata``. Empty cells
         mean "not known".
     cache_size : int, default=0
         How many decoded videos to keep in memory (least recently used).
@@ -105,8 +108,9 @@ def load_press_videos(manifest, *, cache_size=0):
             ndarray of float per class, or None if the manifest has none.
         ``hardness_unit``
             str or None.
-        ``force``, ``timestamps``
-            list with a float array per video, or None where unknown.
+        ``force``, ``timestamps``, ``position``
+            list with a float array per video (None for a video without
+            one), or None where the manifest has no such column.
         ``object_id``
             ndarray of str per video (the label where not given).
         ``fps``
@@ -169,7 +173,7 @@ def load_press_videos(manifest, *, cache_size=0):
             raise ValueError(f"{manifest}: row {i}: empty 'label'.")
         p = resolve(row["path"])
         paths.append(p)
-        for col in ("path", "force_path", "timestamps_path"):
+        for col in ("path", "force_path", "timestamps_path", "position_path"):
             if row.get(col) and not resolve(row[col]).exists():
                 missing.append(str(resolve(row[col])))
     if missing:
@@ -225,6 +229,7 @@ def load_press_videos(manifest, *, cache_size=0):
         hardness_unit=hardness_unit,
         force=series("force_path"),
         timestamps=series("timestamps_path"),
+        position=series("position_path"),
         object_id=object_id,
         fps=fps,
         paths=paths,

@@ -75,7 +75,10 @@ def simulate_press(rng, *, c_gel, c_obj, dome_radius, m, c_drive, f_push, v_push
         noisy, N), ``force_true``, ``approach`` (total, mm), ``gel_indentation``,
         ``object_indentation``, ``contact_radius`` (mm), ``lateral_shift``
         (marker spread at the contact edge, mm), ``position`` (commanded
-        penetration ``z``, mm).
+        penetration ``z``, mm), ``sensor_position`` (where the sensor is,
+        ``z - c_drive F``: what a robot's encoders or a gripper's width
+        measure, mm; negative before contact, the gap; ``approach`` once in
+        contact).
     summary : dict of float
         ``force_peak`` (true peak force), ``t_contact``, ``t_trigger``,
         ``t_release`` (s since the first frame).
@@ -142,6 +145,7 @@ def simulate_press(rng, *, c_gel, c_obj, dome_radius, m, c_drive, f_push, v_push
         force=recorded,
         force_true=force,
         position=z,
+        sensor_position=z - c_drive * force,
         approach=approach,
         gel_indentation=gel,
         object_indentation=obj,

@@ -159,10 +159,11 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=None, image_si
         Shuffle the presses; otherwise they are grouped by object.
     return_mechanics : bool, default=False
         Also return ``mechanics``: per press, a dict of per-frame arrays
-        ``time``, ``force_true``, ``position``, ``approach``,
-        ``gel_indentation``, ``object_indentation``, ``contact_radius``
-        (all in s, N, mm) and ``lateral_shift`` (marker spread at the
-        contact edge, mm).
+        ``time``, ``force_true``, ``position`` (the drive's commanded
+        position), ``sensor_position`` (the sensor's: the dataset's
+        ``position``), ``approach``, ``gel_indentation``,
+        ``object_indentation``, ``contact_radius`` (all in s, N, mm) and
+        ``lateral_shift`` (marker spread at the contact edge, mm).
     codec : {"auto", "mp4v", "avc1", "mjpg"} or None, default="auto"
         Pass every video through this real lossy codec (OpenCV writes a
         temporary file and reads it back), so compression noise is real.
@@ -199,6 +200,16 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=None, image_si
             ``"mm/N"`` (compliance: larger is softer) or ``"Shore 00"``.
         force, timestamps : list of ndarray of shape (T_i,)
             Recorded force (N, with sensor noise) and frame times (s).
+        position : list of ndarray of shape (T_i,)
+            Where the sensor is along the press axis (mm, growing as it
+            moves into the object, 0 at first contact, negative before: the
+            gap): what a robot's joint encoders record beside the force.
+            It is the drive's commanded position less the drive's give
+            (``drive_compliance`` times the force). With ``force``, the input
+            of :class:`~sklearn_hardness.features.LoadingCompliance`
+            (``np.column_stack([force, position])`` per press). For the
+            presses a preset makes by hand it is the hand's, which only
+            motion capture would record.
         object_id : ndarray of str
             Which physical object was pressed (``everyday``: e.g.
             ``"everyday-07-eraser"``).
@@ -317,6 +328,7 @@ def _make_flat(preset, params, n_per_class, markers, image_size, shuffle, return
         hardness_unit=unit,
         force=[m["force"].copy() for m in mechanics],
         timestamps=[m["time"].copy() for m in mechanics],
+        position=[m["sensor_position"].copy() for m in mechanics],
         object_id=np.array([f"{preset}-object{c}" for c in target]),
         press_params=pp,
         fps=params["fps"],
@@ -402,6 +414,7 @@ def _make_everyday(params, n_per_class, markers, image_size, shuffle, return_mec
         hardness_unit=params["hardness_unit"],
         force=[m["force"].copy() for m in mechanics],
         timestamps=[m["time"].copy() for m in mechanics],
+        position=[m["sensor_position"].copy() for m in mechanics],
         object_id=np.array([f"everyday-{k:02d}-{objects[k]['kind'].replace(' ', '-')}" for k in object_idx]),
         objects=[dict(o) for o in objects],
         press_params=pp,

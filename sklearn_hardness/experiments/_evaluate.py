@@ -21,6 +21,7 @@ from scipy import stats
 from sklearn.base import clone
 from sklearn.metrics import ConfusionMatrixDisplay, balanced_accuracy_score, confusion_matrix
 from sklearn.model_selection import StratifiedGroupKFold
+from sklearn.pipeline import Pipeline
 from sklearn.utils import Bunch, _safe_indexing, check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
@@ -28,6 +29,7 @@ from .._experiment_names import DEFAULT_PIPELINES, PIPELINE_NAMES
 from .. import models
 from ..datasets import load_press_videos, make_presses
 from ..datasets._sim_presets import PRESETS
+from ..features import LoadingCompliance
 from ..metrics import hardness_mae
 from ..utils._random import int_seed
 from ..utils._validation import check_roi
@@ -58,7 +60,36 @@ def _named_pipeline(name, seed=None, roi=None):
     if name == "convlstm":
         # the test objects are never seen in training here: the input that carries over to them
         return models.make_convlstm_pipeline(intensity_channels=True, roi=roi, random_state=seed)
+    if name == "loading_compliance":  # force and position, no frames: no roi, nothing random
+        return models.make_loading_compliance_pipeline()
     return getattr(models, f"make_{name}_pipeline")(roi=roi, random_state=seed)
+
+
+def _takes_force_position(estimator):
+    """Whether ``estimator`` (or its first step) reads force and position per frame, not videos."""
+    first = estimator.steps[0][1] if isinstance(estimator, Pipeline) else estimator
+    return isinstance(first, LoadingCompliance)
+
+
+def _force_position(data, names):
+    """Each press's ``(T, 2)`` force and position, for the pipelines ``names`` that read them."""
+    force, position = getattr(data, "force", None), getattr(data, "position", None)
+    lacking = [i for i in range(len(data.target))
+               if force is None or position is None or force[i] is None or position[i] is None]
+    if lacking:
+        shown = ", ".join(map(str, lacking[:10])) + (", ..." if len(lacking) > 10 else "")
+        raise ValueError(
+            f"pipeline(s) {names} read each press's force and position per frame, and {len(lacking)} of "
+            f"{len(data.target)} presses have none (presses {shown}): give a manifest force_path and "
+            "position_path columns (position in mm, growing as the sensor moves into the object), or a "
+            "dataset Bunch with force and position lists.")
+    out = []
+    for i, (f, z) in enumerate(zip(force, position)):
+        f, z = np.asarray(f, dtype=float).ravel(), np.asarray(z, dtype=float).ravel()
+        if len(f) != len(z):
+            raise ValueError(f"press {i} has {len(f)} force values but {len(z)} positions; both are per frame.")
+        out.append(np.column_stack([f, z]))
+    return out
 
 
 def _load_dataset(dataset, random_state):
@@ -211,7 +242,14 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         dropout), ``"convlstm"``, ``"ofnn"``,
         ``"dinov2nn"`` (the ready-made pipelines of
         :mod:`sklearn_hardness.models`, built by their ``make_*_pipeline``
-        factories, the ConvLSTM with ``intensity_channels=True``).
+        factories, the ConvLSTM with ``intensity_channels=True``), and
+        ``"loading_compliance"``
+        (:func:`~sklearn_hardness.models.make_loading_compliance_pipeline`:
+        not the video but each press's force and position per frame, the
+        dataset's ``force`` and ``position``; a manifest gives them with
+        ``force_path`` and ``position_path`` columns, the simulator's presets
+        always). A pipeline given in a dict whose first step is a
+        :class:`~sklearn_hardness.features.LoadingCompliance` reads them too.
         None: ``["contact_profile", "contact_profile_nn", "convlstm", "ofnn"]``;
         on real recordings of unseen objects the contact-profile features were
         the input that beat the one-number baseline (issue 20), so they run
@@ -251,6 +289,7 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         For sensors whose frame shows more than the gel (a GelSight Wedge
         grasp shows the housing and the other finger). Estimators given in
         a dict are left as they are: set their own ``roi``.
+        ``"loading_compliance"`` reads no frames.
     error_score : "raise" or float, default="raise"
         What a failing pipeline gives: raise, or warn and score the fold as
         this value (e.g. ``np.nan``); the table names the error.
@@ -312,7 +351,8 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     ------
     ValueError
         A class with fewer objects than ``cv``, an unknown pipeline name,
-        or a dataset without ``object_id``.
+        a dataset without ``object_id``, or ``"loading_compliance"`` on a
+        dataset without force and position for every press.
 
     See Also
     --------
@@ -369,7 +409,12 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     repeats = f" x {n_repeats} repetitions" if n_repeats > 1 else ""
     log.write(f"{len(named)} pipeline(s) ({', '.join(named)}) x {cv} object-disjoint folds{repeats} on "
               f"{len(y)} presses of {len(np.unique(groups))} objects")
-    inputs, rests, seconds_once = _per_press_inputs(named, X, n_jobs, log)
+    reads_force = [name for name, est in named.items() if _takes_force_position(est)]
+    force_position = _force_position(data, reads_force) if reads_force else None
+    inputs, rests, seconds_once = _per_press_inputs(
+        {name: est for name, est in named.items() if name not in reads_force}, X, n_jobs, log)
+    for name in reads_force:
+        inputs[name], rests[name], seconds_once[name] = force_position, named[name], 0.0
     jobs = [(name, rests[name], k) for name in named for k in range(len(folds))]
     progress = ProgressLog(len(jobs), desc="evaluate", verbose=verbose, unit="fits")
     outs = [None] * len(jobs)

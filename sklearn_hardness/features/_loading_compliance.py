@@ -23,9 +23,10 @@ FEATURE_NAMES = ("hertz_compliance", "linear_compliance", "travel", "peak_force"
 _HERTZ = 2.0 / 3.0
 
 
-def _loading_figures(press, onset, min_frames):
+def _loading_figures(press, onset, min_frames, drive_compliance):
     """The four figures of one (T, 2) press; NaN where its loading phase is too short to fit."""
-    force, position = press[:, 0], press[:, 1]
+    force = press[:, 0]
+    position = press[:, 1] - drive_compliance * force  # where the sensor is
     peak = int(np.argmax(force))
     f_peak = float(force[peak])
     if f_peak <= 0.0:
@@ -76,6 +77,14 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
         its peak (below it, force noise dominates).
     min_loading_frames : int, default=3
         Fewest frames of loading to fit a slope.
+    drive_compliance : float, default=0.0
+        The give between the recorded position and the sensor, mm/N:
+        ``drive_compliance * force`` is taken off the position first. 0 for a
+        measured position (joint encoders, a gripper's width); for an
+        impedance controller's *commanded* position, its compliance (one over
+        its stiffness: 1.0 mm/N at 1000 N/m). Left in, the drive's give grows
+        linearly with force and the Hertz compliance no longer carries across
+        forces.
 
     Attributes
     ----------
@@ -95,11 +104,12 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
     -----
     Each press is an array of shape ``(T, 2)``: the force (N) and the position
     (mm) per frame, the position growing as the sensor moves into the object
-    (for a robot arm, its advance along the press axis; for a parallel
-    gripper, the closing: its width at the start minus its width). Any offset
-    is allowed. Build it with ``np.column_stack([force, position])``.
-    ``sklearn_hardness.datasets.make_presses(..., return_mechanics=True)``
-    gives both for simulated presses (``force`` and ``mechanics[i]["position"]``).
+    (for a robot arm, its measured advance along the press axis; for a
+    parallel gripper, the closing: its width at the start minus its width).
+    Any offset is allowed. Build it with ``np.column_stack([force,
+    position])``. :func:`~sklearn_hardness.datasets.make_presses` gives both
+    for simulated presses (``force`` and ``position``, the sensor's measured
+    position).
 
     Examples
     --------
@@ -117,12 +127,14 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
         "features": [StrOptions({"all"}), list, tuple],
         "onset": [Interval(numbers.Real, 0, 1, closed="neither")],
         "min_loading_frames": [Interval(numbers.Integral, 2, None, closed="left")],
+        "drive_compliance": [Interval(numbers.Real, 0, None, closed="left")],
     }
 
-    def __init__(self, features="all", onset=0.1, min_loading_frames=3):
+    def __init__(self, features="all", onset=0.1, min_loading_frames=3, drive_compliance=0.0):
         self.features = features
         self.onset = onset
         self.min_loading_frames = min_loading_frames
+        self.drive_compliance = drive_compliance
 
     def _columns(self):
         if isinstance(self.features, str):
@@ -168,7 +180,8 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
         """
         check_is_fitted(self)
         presses = check_force_position(X)
-        rows = np.vstack([_loading_figures(p, self.onset, self.min_loading_frames) for p in presses])
+        rows = np.vstack([_loading_figures(p, self.onset, self.min_loading_frames, self.drive_compliance)
+                          for p in presses])
         out = rows[:, [FEATURE_NAMES.index(f) for f in self.features_]]
         bad = np.flatnonzero(np.isnan(out).any(axis=1))
         if len(bad):
