@@ -23,7 +23,7 @@ Two questions, on the ``everyday`` preset (``make_presses("everyday", random_sta
     python benchmarks/bench_loading_compliance.py [--seeds 0 1 2 3 4] [--firm-force 15 25]
         [--n-jobs 2] [--out FILE]
 
-Prints both tables (mean over seeds beside each seed), the time and the peak
+Prints both tables (mean over seeds, and the sd of the first, beside each seed), the time and the peak
 memory; ``--out`` writes the same text with a provenance line. The video
 pipelines render every press (about 1 min per seed on 2 cores); the force
 pipeline alone takes well under a second per seed.
@@ -115,9 +115,10 @@ def main(argv=None):
     for seed, table, recommended in rows:
         lines.append(f"| {seed} | " + " | ".join(cell(table[n]) for n in names)
                      + f" | {margin(table['loading_compliance'])} | {recommended} |")
-    means = {n: np.mean([t[n]["balanced_accuracy"] for _, t, _ in rows]) for n in names}
-    lines.append("| mean | " + " | ".join(f"{means[n]:.2f}" for n in names)
-                 + f" | {means['loading_compliance'] - means['peak_change']:+.2f} | |")
+    scores = {n: np.array([t[n]["balanced_accuracy"] for _, t, _ in rows]) for n in names}
+    lines.append("| mean (sd) | " + " | ".join(f"{scores[n].mean():.2f} ({scores[n].std(ddof=1) if len(rows) > 1 else 0:.2f})"
+                                               for n in names)
+                 + f" | {scores['loading_compliance'].mean() - scores['peak_change'].mean():+.2f} | |")
     lo, hi = args.firm_force
     lines += ["", f"Across forces: trained on the seed's presses (1-6 N), tested on a fresh draw pushed to "
               f"{lo:g}-{hi:g} N (seed + 1000); balanced accuracy", "",
