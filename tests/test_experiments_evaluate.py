@@ -513,3 +513,23 @@ def test_cli_evaluates_loading_compliance_on_a_simulated_manifest(tmp_path, caps
     with pytest.raises(SystemExit, match="2"):
         main(["evaluate", str(root), "--pipelines", "loading_compliance", "--cv", "3", "--quiet"])
     assert "force_path and position_path" in capsys.readouterr().err
+
+
+def test_by_default_evaluate_adds_loading_compliance_where_every_press_has_force_and_position(tiny, monkeypatch):
+    from sklearn_hardness._cli import build_parser
+    from sklearn_hardness._experiment_names import DEFAULT_PIPELINES
+    from sklearn_hardness.experiments import _evaluate
+
+    assert _evaluate._default_pipelines(tiny) == [*DEFAULT_PIPELINES, "loading_compliance"]
+    no_position = Bunch(**{k: v for k, v in tiny.items() if k != "position"})
+    assert _evaluate._default_pipelines(no_position) == list(DEFAULT_PIPELINES)
+    one_lacking = Bunch(**tiny)
+    one_lacking.position = [None, *tiny.position[1:]]
+    assert _evaluate._default_pipelines(one_lacking) == list(DEFAULT_PIPELINES)
+    # evaluate_pipelines(pipelines=None) and the command without --pipelines take that default
+    asked = []
+    monkeypatch.setattr(_evaluate, "_named_pipeline",
+                        lambda name, seed=None, roi=None: asked.append(name) or make_peak_change_baseline())
+    evaluate_pipelines(tiny, None, cv=3, verbose=0)
+    assert asked[:-1] == [*DEFAULT_PIPELINES, "loading_compliance"] and asked[-1] == "peak_change"
+    assert build_parser().parse_args(["evaluate", "everyday"]).pipelines is None

@@ -33,8 +33,9 @@ def _add_evaluate(sub):
     )
     p.add_argument("dataset", help="a manifest.csv (or its folder), or a simulator preset "
                    f"({', '.join(_SIM_PRESETS)})")
-    p.add_argument("--pipelines", nargs="*", default=list(DEFAULT_PIPELINES), choices=PIPELINE_NAMES,
-                   metavar="NAME", help=f"among {', '.join(PIPELINE_NAMES)} (default: {' '.join(DEFAULT_PIPELINES)}); "
+    p.add_argument("--pipelines", nargs="*", default=None, choices=PIPELINE_NAMES,
+                   metavar="NAME", help=f"among {', '.join(PIPELINE_NAMES)} (default: {' '.join(DEFAULT_PIPELINES)}, "
+                   "and loading_compliance where every press has force and position); "
                    "the peak_change baseline is always added")
     p.add_argument("--cv", type=_int_type(2, what="an integer >= 2"), default=5,
                    help="number of object-disjoint folds (default 5)")
@@ -75,7 +76,8 @@ def _run_evaluate(args):
         roi = check_roi(args.roi)
     if not args.quiet:
         repeats = f" x {args.n_repeats} repetitions" if args.n_repeats > 1 else ""
-        print(f"evaluating {', '.join(args.pipelines) or 'the baseline'} on {args.dataset} "
+        names = "the default pipelines" if args.pipelines is None else ", ".join(args.pipelines) or "the baseline"
+        print(f"evaluating {names} on {args.dataset} "
               f"({args.cv} object-disjoint folds{repeats}) ...", file=sys.stderr, flush=True)
     with _user_errors():
         result = evaluate_pipelines(args.dataset, args.pipelines, cv=args.cv, n_repeats=args.n_repeats,

@@ -71,6 +71,18 @@ def _takes_force_position(estimator):
     return isinstance(first, LoadingCompliance)
 
 
+def _has_force_position(data):
+    """Whether every press of ``data`` has its force and position per frame."""
+    force, position = getattr(data, "force", None), getattr(data, "position", None)
+    return (force is not None and position is not None
+            and all(f is not None for f in force) and all(z is not None for z in position))
+
+
+def _default_pipelines(data):
+    """``DEFAULT_PIPELINES``, and ``"loading_compliance"`` where every press has force and position."""
+    return list(DEFAULT_PIPELINES) + (["loading_compliance"] if _has_force_position(data) else [])
+
+
 def _force_position(data, names):
     """Each press's ``(T, 2)`` force and position, for the pipelines ``names`` that read them."""
     force, position = getattr(data, "force", None), getattr(data, "position", None)
@@ -250,10 +262,15 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         ``force_path`` and ``position_path`` columns, the simulator's presets
         always). A pipeline given in a dict whose first step is a
         :class:`~sklearn_hardness.features.LoadingCompliance` reads them too.
-        None: ``["contact_profile", "contact_profile_nn", "convlstm", "ofnn"]``;
-        on real recordings of unseen objects the contact-profile features were
-        the input that beat the one-number baseline (issue 20), so they run
-        by default beside the paper's nets. The leading steps that turn each
+        None: ``["contact_profile", "contact_profile_nn", "convlstm", "ofnn"]``,
+        and ``"loading_compliance"`` where every press has its force and
+        position (a manifest with ``force_path`` and ``position_path``, the
+        simulator's presets); on real recordings of unseen objects the
+        contact-profile features were the video input that beat the
+        one-number baseline (issue 20), so they run by default beside the
+        paper's nets, and where a robot recorded force and position those
+        tell hardness more directly than any video input (on simulated new
+        objects and in ordering real GelSight Wedge grasps). The leading steps that turn each
         press into its row by that press alone (frame selection, the
         contact-profile features, optical flow, frozen DINOv2 features, the
         peak change) run once over all presses, not once per fold, and
@@ -377,7 +394,7 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
                          "object each press is of (add an object_id column to the manifest).")
     groups = np.asarray(groups)
     if pipelines is None:
-        pipelines = list(DEFAULT_PIPELINES)
+        pipelines = _default_pipelines(data)
     if isinstance(pipelines, dict):
         named = {str(k): v for k, v in pipelines.items()}
     else:
