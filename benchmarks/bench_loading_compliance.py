@@ -66,9 +66,8 @@ def across_forces(seed, firm_force):
     firm = make_presses("everyday", random_state=seed + 1000, force_range=tuple(firm_force), return_mechanics=True)
     out = {}
     for label, (features, source, give) in ACROSS.items():
-        pipe = make_loading_compliance_pipeline(features=features)
-        if give:
-            pipe.set_params(features__drive_compliance=train.params["drive_compliance"])
+        pipe = make_loading_compliance_pipeline(
+            features=features, drive_compliance=train.params["drive_compliance"] if give else 0.0)
         pipe.fit(force_position(train, source), train.target)
         out[label] = balanced_accuracy_score(firm.target, pipe.predict(force_position(firm, source)))
     return out

@@ -90,7 +90,7 @@ firm = make_presses("everyday", random_state=1, force_range=(15.0, 25.0), return
 commanded = [np.column_stack([f, m["position"]]) for f, m in zip(data.force, data.mechanics)]
 commanded_firm = [np.column_stack([f, m["position"]]) for f, m in zip(firm.force, firm.mechanics)]
 for give in [0.0, data.params["drive_compliance"]]:
-    pipe = make_loading_compliance_pipeline().set_params(features__drive_compliance=give)
+    pipe = make_loading_compliance_pipeline(drive_compliance=give)
     pipe.fit(commanded, data.target)
     score = balanced_accuracy_score(firm.target, pipe.predict(commanded_firm))
     print(f"drive_compliance={give:.1f} mm/N: pushed 4x harder {score:.2f}")

@@ -160,6 +160,7 @@ def test_pipeline_gives_posterior_samples_and_pickles():
     np.testing.assert_allclose(samples.sum(axis=-1), 1.0)
     np.testing.assert_allclose(pickle.loads(pickle.dumps(pipe)).predict_proba(X), pipe.predict_proba(X))
     assert clone(pipe).get_params()["clf__C"] == 0.5
+    assert make_loading_compliance_pipeline(drive_compliance=0.3).get_params()["features__drive_compliance"] == 0.3
     with pytest.raises(TypeError, match="max_epochs"):
         make_loading_compliance_pipeline(max_epochs=5)
 

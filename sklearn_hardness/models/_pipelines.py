@@ -442,7 +442,8 @@ def _log_positive(X):
     return np.log(np.maximum(np.asarray(X, dtype=np.float64), _LOG_FLOOR))  # maximum keeps NaN; fmax would not
 
 
-def make_loading_compliance_pipeline(*, features=("hertz_compliance",), onset=0.1, **classifier_params):
+def make_loading_compliance_pipeline(*, features=("hertz_compliance",), onset=0.1, drive_compliance=0.0,
+                                     **classifier_params):
     """Force and position per frame -> :class:`~sklearn_hardness.features.LoadingCompliance` -> classifier.
 
     For presses whose force and position a robot (or gripper) records beside
@@ -465,6 +466,11 @@ def make_loading_compliance_pipeline(*, features=("hertz_compliance",), onset=0.
         ``features`` of :class:`~sklearn_hardness.features.LoadingCompliance`.
     onset : float in (0, 1), default=0.1
         ``onset`` of :class:`~sklearn_hardness.features.LoadingCompliance`.
+    drive_compliance : float, default=0.0
+        ``drive_compliance`` of
+        :class:`~sklearn_hardness.features.LoadingCompliance`, mm/N: 0 for a
+        measured position (encoders, a gripper's width); an impedance
+        controller's compliance for its commanded position.
     **classifier_params
         Passed to :class:`LaplaceLogisticRegression`; ``class_weight``
         defaults to ``"balanced"`` and ``max_iter`` to 2000.
@@ -499,7 +505,7 @@ def make_loading_compliance_pipeline(*, features=("hertz_compliance",), onset=0.
     classifier_params.setdefault("class_weight", "balanced")
     classifier_params.setdefault("max_iter", 2000)
     return MCDropoutPipeline([
-        ("features", LoadingCompliance(features=features, onset=onset)),
+        ("features", LoadingCompliance(features=features, onset=onset, drive_compliance=drive_compliance)),
         ("log", FunctionTransformer(_log_positive, feature_names_out="one-to-one")),
         ("impute", SimpleImputer(strategy="median")),
         ("scale", StandardScaler()),
