@@ -208,3 +208,23 @@ def test_trained_on_the_simulator_it_classifies_presses_pushed_four_times_harder
             for name in ("hertz_compliance", "linear_compliance")}
     assert scores["hertz_compliance"] >= 0.85
     assert scores["hertz_compliance"] >= scores["linear_compliance"] + 0.08
+
+
+def test_active_sampling_runs_on_force_and_position_and_its_uncertainty_shrinks_with_presses():
+    """What predict_proba_samples is for: ActiveLearner queries and learns on (T, 2) presses."""
+    from sklearn_hardness.active import ActiveLearner
+
+    X, y = presses(90, forces=(1.0, 6.0), seed=2, spread=0.3)
+    X_test, _ = presses(12, forces=(1.0, 6.0), seed=3, spread=0.3)
+    learner = ActiveLearner(make_loading_compliance_pipeline(), n_mc_samples=200, random_state=0)
+    learner.fit(X[:6], y[:6])
+
+    def spread():
+        return learner.predict_proba_samples(X_test, n_samples=200, random_state=0).std(axis=0).mean()
+
+    query, uncertainty = learner.query(X_test)
+    assert query.shape == (1,) and 0 <= query[0] < 3 and uncertainty.shape == (3,)
+    before = spread()
+    learner.teach(X[6:], y[6:])
+    assert spread() < 0.5 * before  # 15x the presses: the posterior narrows
+    assert (learner.predict(X[6:]) == y[6:]).mean() >= 0.7  # classes overlap (30% spread): about 0.8 at best

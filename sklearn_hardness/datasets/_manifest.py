@@ -87,10 +87,12 @@ def load_press_videos(manifest, *, cache_size=0):
         for all rows of a label), ``hardness_unit`` (e.g. ``mm/N`` or
         ``Shore 00``), ``object_id`` (which physical object was pressed),
         ``force_path``, ``timestamps_path`` and ``position_path`` (per-frame
-        force in N, time in s and the robot's position in mm, growing as the
-        sensor moves into the object, as ``.npy`` or text files with one
-        number per line; force and position are the input of
-        :class:`~sklearn_hardness.features.LoadingCompliance`), ``fps``. Other columns are returned in ``metadata``. Empty cells
+        force in N, time in s and the sensor's position in mm, growing as it
+        moves into the object: a robot's encoders, a gripper's closing; as
+        ``.npy`` or text files with one number per line; force and position
+        are the input of
+        :class:`~sklearn_hardness.features.LoadingCompliance`), ``fps``.
+        Other columns are returned in ``metadata``. Empty cells
         mean "not known".
     cache_size : int, default=0
         How many decoded videos to keep in memory (least recently used).

@@ -71,23 +71,21 @@ def _takes_force_position(estimator):
     return isinstance(first, LoadingCompliance)
 
 
-def _has_force_position(data):
-    """Whether every press of ``data`` has its force and position per frame."""
+def _presses_lacking_force_position(data):
+    """Indices of the presses of ``data`` without force or position per frame."""
     force, position = getattr(data, "force", None), getattr(data, "position", None)
-    return (force is not None and position is not None
-            and all(f is not None for f in force) and all(z is not None for z in position))
+    return [i for i in range(len(data.target))
+            if force is None or position is None or force[i] is None or position[i] is None]
 
 
 def _default_pipelines(data):
     """``DEFAULT_PIPELINES``, and ``"loading_compliance"`` where every press has force and position."""
-    return list(DEFAULT_PIPELINES) + (["loading_compliance"] if _has_force_position(data) else [])
+    return list(DEFAULT_PIPELINES) + ([] if _presses_lacking_force_position(data) else ["loading_compliance"])
 
 
 def _force_position(data, names):
     """Each press's ``(T, 2)`` force and position, for the pipelines ``names`` that read them."""
-    force, position = getattr(data, "force", None), getattr(data, "position", None)
-    lacking = [i for i in range(len(data.target))
-               if force is None or position is None or force[i] is None or position[i] is None]
+    lacking = _presses_lacking_force_position(data)
     if lacking:
         shown = ", ".join(map(str, lacking[:10])) + (", ..." if len(lacking) > 10 else "")
         raise ValueError(
@@ -96,7 +94,7 @@ def _force_position(data, names):
             "position_path columns (position in mm, growing as the sensor moves into the object), or a "
             "dataset Bunch with force and position lists.")
     out = []
-    for i, (f, z) in enumerate(zip(force, position)):
+    for i, (f, z) in enumerate(zip(data.force, data.position)):
         f, z = np.asarray(f, dtype=float).ravel(), np.asarray(z, dtype=float).ravel()
         if len(f) != len(z):
             raise ValueError(f"press {i} has {len(f)} force values but {len(z)} positions; both are per frame.")
@@ -268,12 +266,13 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         simulator's presets); on real recordings of unseen objects the
         contact-profile features were the video input that beat the
         one-number baseline (issue 20), so they run by default beside the
-        paper's nets, and where a robot recorded force and position those
-        tell hardness more directly than any video input (on simulated new
-        objects and in ordering real GelSight Wedge grasps). The leading steps that turn each
-        press into its row by that press alone (frame selection, the
-        contact-profile features, optical flow, frozen DINOv2 features, the
-        peak change) run once over all presses, not once per fold, and
+        paper's nets; where a robot recorded force and position, those tell
+        hardness more directly than any video input (on simulated new
+        objects, and in ordering real GelSight Wedge grasps). The leading
+        steps that turn each press into its row by that press alone (frame
+        selection, the contact-profile features, optical flow, frozen DINOv2
+        features, the peak change) run once over all presses, not once per
+        fold, and
         pipelines that start with the same such steps share them (the two
         contact-profile ones): the same scores, a ``cv``-th of the work in
         those steps.

@@ -53,10 +53,12 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
     - ``hertz_compliance``: the least-squares slope of the position against
       ``F^(2/3)``, in mm per N^(2/3). In Hertz contact a dome indents as
       ``delta = c F^(2/3)``, so this is the compliance ``c`` quoted at 1 N
-      (the unit of the simulator's compliances), of gel, object and drive in
-      series. Unlike the slope against ``F``, it does not grow stiffer with
-      the force a robot pushes to, so a model trained at a few newtons
-      carries over to grasps at tens of newtons.
+      (the unit of the simulator's compliances) of gel and object in series,
+      with any give between the recorded position and the sensor that
+      ``drive_compliance`` does not take off. Unlike the slope against
+      ``F``, it does not grow stiffer with the force a robot pushes to, so a
+      model trained at a few newtons carries over to grasps at tens of
+      newtons.
     - ``linear_compliance``: the slope of the position against ``F``, mm/N.
     - ``travel``: the position's advance over the loading phase, mm.
     - ``peak_force``: the peak force, N.

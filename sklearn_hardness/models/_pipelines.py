@@ -447,8 +447,8 @@ def make_loading_compliance_pipeline(*, features=("hertz_compliance",), onset=0.
     """Force and position per frame -> :class:`~sklearn_hardness.features.LoadingCompliance` -> classifier.
 
     For presses whose force and position a robot (or gripper) records beside
-    the video. The compliance of gel, object and drive in series, fitted
-    over the loading phase, is logged, imputed where a press is too short
+    the video. The compliance of gel and object in series, fitted over
+    the loading phase, is logged, imputed where a press is too short
     to fit (the median of the training presses), scaled, and classified by
     a balanced logistic regression with ``predict_proba_samples``
     (:class:`LaplaceLogisticRegression`), so active sampling works with it.
@@ -456,9 +456,11 @@ def make_loading_compliance_pipeline(*, features=("hertz_compliance",), onset=0.
     The default input is the Hertz compliance alone (position against
     ``F^(2/3)``): it does not depend on the force a press reaches, so a
     model trained on the simulator's presses of a few newtons carries over
-    to grasps of tens of newtons (``benchmarks/bench_wedge_force.py``
-    measures it on real GelSight Wedge grasps). Figures for the docs come
-    from that benchmark.
+    to grasps of tens of newtons. ``benchmarks/bench_loading_compliance.py``
+    measures it on simulated presses of new objects and across forces,
+    ``benchmarks/bench_wedge_force.py`` on real GelSight Wedge grasps
+    (figures in the simulator page of the docs, "A pipeline that reads
+    force and position").
 
     Parameters
     ----------
