@@ -9,7 +9,7 @@ Nothing here may import anything beyond the standard library.
 """
 
 #: Classifiers selectable by name in the experiments (``model=...``, ``reproduce --model``).
-MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn", "contact_profile")
+MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn", "contact_profile", "loading_compliance")
 
 #: Pipelines ``evaluate`` knows by name (``"peak_change"`` is the one-number baseline;
 #: ``"loading_compliance"`` reads each press's force and position, not its video).

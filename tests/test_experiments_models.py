@@ -11,7 +11,8 @@ from sklearn_hardness.experiments._models import FACTORIES, make_estimator, mode
 
 FACTORY_OF = {"convlstm": models.make_convlstm_pipeline, "ofnn": models.make_ofnn_pipeline,
               "dinov2nn": models.make_dinov2nn_pipeline, "contact_profile_nn": models.make_contact_profile_pipeline,
-              "contact_profile": models.make_contact_profile_pipeline}
+              "contact_profile": models.make_contact_profile_pipeline,
+              "loading_compliance": models.make_loading_compliance_pipeline}
 #: The factory arguments that make a named model's head (the default head otherwise).
 HEAD_OF = {"contact_profile": {"head": "logistic"}, "contact_profile_nn": {"head": "nn"}}
 
@@ -34,7 +35,7 @@ def test_the_run_s_net_is_the_factory_s_classifier(name):
     assert {k: v for k, v in ours.items() if k not in run_params} == \
         {k: v for k, v in theirs.items() if k not in run_params}
     assert net.random_state == 3 and net.class_weight is None  # the paper's unweighted loss
-    if name != "contact_profile":  # a logistic regression learns its classes from the labels
+    if name not in ("contact_profile", "loading_compliance"):  # a logistic regression learns its classes
         np.testing.assert_array_equal(net.classes, np.arange(5))
 
 
@@ -51,6 +52,9 @@ def test_frame_and_feature_steps_come_from_the_factories():
     cfg = check_config(get_config("silicone5", model="contact_profile_nn"))
     assert _frame_params(cfg, "contact_profile_nn") is None
     assert _feature_params(cfg, "contact_profile_nn") == {"kind": "contact_profile", "max_side": 80}
+    assert _frame_params(cfg, "loading_compliance") is None
+    assert _feature_params(cfg, "loading_compliance") == {"kind": "loading_compliance", "features": ["hertz_compliance"],
+                                                          "onset": 0.1, "drive_compliance": 0.0}
     assert _feature_params(check_config(get_config("shore9", model="ofnn")), "ofnn") == \
         {"kind": "optical_flow", "n_features": 500}
     # the experiments reproduce the paper: OFNN on flattened tracks, the ConvLSTM on frames alone

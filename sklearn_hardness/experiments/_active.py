@@ -111,6 +111,8 @@ def _run_config(dataset, preset, model, n_runs, quick, config):
         preset = dataset if isinstance(dataset, str) and dataset in ("silicone5", "shore9") else "silicone5"
     if n_runs is not None:
         config = dict(config, n_runs=n_runs)
+    if isinstance(model, str):  # get_config's quick settings depend on the model (frames or none)
+        config = dict(config, model=model)
     cfg = get_config(preset, quick=quick, **config)
     model = cfg["model"] if model is None else model
     cfg["model"] = describe_model(model)

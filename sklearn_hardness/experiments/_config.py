@@ -23,6 +23,8 @@ from .._experiment_names import MODEL_NAMES, QUICK_OVERRIDES
 from ..models import chance_scaled_threshold
 from ..utils._param_validation import FRAME_SIZE
 from ._models import CONTACT_PROFILE_MODELS as _CONTACT_PROFILE_MODELS
+from ._models import FORCE_POSITION_MODELS as _FORCE_POSITION_MODELS
+from ._models import LOGISTIC_MODELS as _LOGISTIC_MODELS
 from ._models import default_frame_size
 from ._models import input_name as _input_name
 
@@ -131,8 +133,9 @@ def get_config(preset="silicone5", *, quick=False, **overrides):
     if not isinstance(preset, str) or preset not in PRESET_CONFIGS:
         raise ValueError(f"unknown preset {preset!r}; choose one of {sorted(PRESET_CONFIGS)}.")
     cfg = copy.deepcopy(PRESET_CONFIGS[preset])
-    if quick:
-        cfg.update(QUICK_OVERRIDES)
+    if quick:  # its frame size is the ConvLSTM's; models that select no frames keep None
+        no_frames = overrides.get("model") in _CONTACT_PROFILE_MODELS + _FORCE_POSITION_MODELS
+        cfg.update({k: v for k, v in QUICK_OVERRIDES.items() if not (k == "frame_size" and no_frames)})
     unknown = sorted(set(overrides) - _KNOWN_KEYS)
     if unknown:
         raise ValueError(
@@ -179,15 +182,17 @@ def check_config(cfg):
             f"dropout_placement={cfg['dropout_placement']!r} applies to the ConvLSTM only, but the model is "
             f"{cfg.get('model')!r}; leave it at 'head' or use model='convlstm'."
         )
-    if cfg.get("model") in _CONTACT_PROFILE_MODELS and any(
+    if cfg.get("model") in _CONTACT_PROFILE_MODELS + _FORCE_POSITION_MODELS and any(
             cfg.get(k) is not None for k in ("frame_size", "color", "crop_contact")):
+        reads = ("ContactProfileFeatures read the whole video" if cfg["model"] in _CONTACT_PROFILE_MODELS
+                 else "it reads each press's force and position, not its frames")
         raise ValueError(
             f"frame_size, color and crop_contact select contact frames, which {cfg['model']} does not "
-            "use (ContactProfileFeatures read the whole video); leave them at None."
+            f"use ({reads}); leave them at None."
         )
-    if cfg.get("model") == "contact_profile" and cfg["n_ensemble"]:
+    if cfg.get("model") in _LOGISTIC_MODELS and cfg["n_ensemble"]:
         raise ValueError(
-            "n_ensemble applies to the nets; contact_profile's samples come from the Laplace posterior of "
+            f"n_ensemble applies to the nets; {cfg['model']}'s samples come from the Laplace posterior of "
             "its logistic regression. Leave n_ensemble at 0."
         )
     if cfg["n_ensemble"] == 1:
@@ -249,7 +254,7 @@ _LATER_KEYS = {"n_ensemble": 0, "device": "cpu", "early_stopping": None, "crop_c
 #: check_config wrote the size out and the ConvLSTM's default became 12x16): hashed as None,
 #: so results files made then stay resumable under the same frames.
 _SIZES_HASHED_AS_NONE = {"convlstm": (18, 24), "ofnn": (120, 160), "dinov2nn": (112, 150), "contact_profile_nn": None,
-                         "contact_profile": None}
+                         "contact_profile": None, "loading_compliance": None}
 
 
 def config_hash(config):

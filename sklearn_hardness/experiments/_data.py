@@ -21,10 +21,12 @@ from sklearn.utils import Bunch
 from tqdm.auto import tqdm
 
 from ..datasets import load_press_videos, make_presses
-from ..features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
+from ..features import ContactProfileFeatures, DINOv2Features, LoadingCompliance, OpticalFlowFeatures
+from ..models._pipelines import _log_positive
 from ..preprocessing import ContactFrameSelector
 from ..utils._warnings import external_stacklevel
 from ._config import MODEL_NAMES
+from ._force_position import force_position
 from ._models import feature_params as _feature_params
 from ._models import frame_params as _frame_params
 
@@ -124,7 +126,13 @@ def _features(frames, feature_params):
 
 def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=None):
     data = load_dataset(dataset, cfg)
-    if frame_params is None:  # contact_profile(_nn): features of the whole videos, no frame selection
+    if feature_params is not None and feature_params["kind"] == "loading_compliance":
+        # each press's force and position, no video: the factory's features and log steps (stateless);
+        # its imputer and scaler are fitted per run (experiments._models.input_scaler)
+        step = LoadingCompliance(features=feature_params["features"], onset=feature_params["onset"],
+                                 drive_compliance=feature_params["drive_compliance"])
+        X = _log_positive(step.fit_transform(force_position(data, ["loading_compliance"]))).astype(np.float32)
+    elif frame_params is None:  # contact_profile(_nn): features of the whole videos, no frame selection
 
         X = ContactProfileFeatures(max_side=feature_params["max_side"], n_jobs=n_jobs).fit_transform(
             data["videos"]).astype(np.float32)

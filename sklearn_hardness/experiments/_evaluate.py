@@ -33,6 +33,7 @@ from ..features import LoadingCompliance
 from ..metrics import hardness_mae
 from ..utils._random import int_seed
 from ..utils._validation import check_roi
+from ._force_position import force_position, presses_lacking_force_position
 from ._peak_baseline import make_peak_change_baseline
 from ._per_press import describe, prefix_key, split_per_press, transform_per_press
 from ._runner import ProgressLog
@@ -71,35 +72,9 @@ def _takes_force_position(estimator):
     return isinstance(first, LoadingCompliance)
 
 
-def _presses_lacking_force_position(data):
-    """Indices of the presses of ``data`` without force or position per frame."""
-    force, position = getattr(data, "force", None), getattr(data, "position", None)
-    return [i for i in range(len(data.target))
-            if force is None or position is None or force[i] is None or position[i] is None]
-
-
 def _default_pipelines(data):
     """``DEFAULT_PIPELINES``, and ``"loading_compliance"`` where every press has force and position."""
-    return list(DEFAULT_PIPELINES) + ([] if _presses_lacking_force_position(data) else ["loading_compliance"])
-
-
-def _force_position(data, names):
-    """Each press's ``(T, 2)`` force and position, for the pipelines ``names`` that read them."""
-    lacking = _presses_lacking_force_position(data)
-    if lacking:
-        shown = ", ".join(map(str, lacking[:10])) + (", ..." if len(lacking) > 10 else "")
-        raise ValueError(
-            f"pipeline(s) {names} read each press's force and position per frame, and {len(lacking)} of "
-            f"{len(data.target)} presses have none (presses {shown}): give a manifest force_path and "
-            "position_path columns (position in mm, growing as the sensor moves into the object), or a "
-            "dataset Bunch with force and position lists.")
-    out = []
-    for i, (f, z) in enumerate(zip(data.force, data.position)):
-        f, z = np.asarray(f, dtype=float).ravel(), np.asarray(z, dtype=float).ravel()
-        if len(f) != len(z):
-            raise ValueError(f"press {i} has {len(f)} force values but {len(z)} positions; both are per frame.")
-        out.append(np.column_stack([f, z]))
-    return out
+    return list(DEFAULT_PIPELINES) + ([] if presses_lacking_force_position(data) else ["loading_compliance"])
 
 
 def _load_dataset(dataset, random_state):
@@ -426,11 +401,11 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     log.write(f"{len(named)} pipeline(s) ({', '.join(named)}) x {cv} object-disjoint folds{repeats} on "
               f"{len(y)} presses of {len(np.unique(groups))} objects")
     reads_force = [name for name, est in named.items() if _takes_force_position(est)]
-    force_position = _force_position(data, reads_force) if reads_force else None
+    force_position_rows = force_position(data, reads_force) if reads_force else None
     inputs, rests, seconds_once = _per_press_inputs(
         {name: est for name, est in named.items() if name not in reads_force}, X, n_jobs, log)
     for name in reads_force:
-        inputs[name], rests[name], seconds_once[name] = force_position, named[name], 0.0
+        inputs[name], rests[name], seconds_once[name] = force_position_rows, named[name], 0.0
     jobs = [(name, rests[name], k) for name in named for k in range(len(folds))]
     progress = ProgressLog(len(jobs), desc="evaluate", verbose=verbose, unit="fits")
     outs = [None] * len(jobs)

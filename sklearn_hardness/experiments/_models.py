@@ -1,7 +1,8 @@
 """The experiments' named models, built by the public ``make_*_pipeline`` factories.
 
 One place decides what a model named ``"convlstm"``, ``"ofnn"``, ``"dinov2nn"``,
-``"contact_profile_nn"`` or ``"contact_profile"`` is: its factory in :mod:`sklearn_hardness.models`.
+``"contact_profile_nn"``, ``"contact_profile"`` or ``"loading_compliance"`` is: its factory in
+:mod:`sklearn_hardness.models`.
 The experiments take the factory's pipeline apart: its ``"frames"`` step
 (contact-frame selection) and its frozen ``"features"`` step run once per
 dataset (:mod:`._data` caches them), and its ``"clf"`` step is the net each
@@ -15,6 +16,7 @@ import inspect
 
 import numpy as np
 from sklearn.base import BaseEstimator, clone
+from sklearn.pipeline import Pipeline
 
 from .._experiment_names import MODEL_NAMES
 from .. import models
@@ -28,6 +30,7 @@ FACTORIES = {
     "dinov2nn": models.make_dinov2nn_pipeline,
     "contact_profile_nn": models.make_contact_profile_pipeline,
     "contact_profile": models.make_contact_profile_pipeline,
+    "loading_compliance": models.make_loading_compliance_pipeline,
 }
 
 #: Where the experiments depart from the factories' defaults (which are for a user's own,
@@ -46,10 +49,15 @@ PAPER_CHOICES = {
     "dinov2nn": {},
     "contact_profile_nn": {"head": "nn", "class_weight": None},
     "contact_profile": {"head": "logistic", "class_weight": None},
+    "loading_compliance": {"class_weight": None},
 }
 
 #: Named models that read ContactProfileFeatures of the whole video (no frame selection).
 CONTACT_PROFILE_MODELS = ("contact_profile_nn", "contact_profile")
+#: Named models that read each press's force and position, not its video.
+FORCE_POSITION_MODELS = ("loading_compliance",)
+#: Named models whose head is a logistic regression refitted per iteration (no epochs or dropout).
+LOGISTIC_MODELS = ("contact_profile", "loading_compliance")
 
 
 def input_name(model):
@@ -68,7 +76,7 @@ def model_pipeline(name, cfg, **classifier_params):
     kwargs = dict(PAPER_CHOICES[name], **classifier_params)
     if name in CONTACT_PROFILE_MODELS:
         kwargs["max_side"] = 80
-    else:
+    elif name not in FORCE_POSITION_MODELS:
         kwargs["n_between"] = int(cfg["n_between"])
         if cfg.get("frame_size") is not None:
             kwargs["frame_size"] = tuple(int(s) for s in cfg["frame_size"])
@@ -110,14 +118,19 @@ def input_scaler(model, cfg):
 
     The one place the experiments' input scaling comes from: the same
     transformer a user's pipeline of the model fits (:class:`FrameScaler` for
-    the ConvLSTM, a ``StandardScaler`` for the contact profile). The
+    the ConvLSTM, a ``StandardScaler`` for the contact profile; for the
+    loading compliance its median imputer and ``StandardScaler``, the imputer
+    filling the presses whose loading phase was too short to fit). The
     experiments fit it on the training presses a run may see (see
     :func:`~._run._initial_state`); ``cfg["input_scale"] = None`` leaves the
     ConvLSTM's frames raw. Estimators passed by the user scale their own input.
     """
     if not isinstance(model, str) or (model == "convlstm" and cfg.get("input_scale") is None):
         return None
-    step = model_pipeline(model, cfg).named_steps.get("scale")
+    pipe = model_pipeline(model, cfg)
+    if "impute" in pipe.named_steps:
+        return clone(Pipeline([(name, pipe.named_steps[name]) for name in ("impute", "scale")]))
+    step = pipe.named_steps.get("scale")
     return None if step is None else clone(step)
 
 
@@ -132,13 +145,16 @@ def feature_params(cfg, model):
         return {"kind": "dinov2", "model": step.model}
     if model in CONTACT_PROFILE_MODELS:
         return {"kind": "contact_profile", "max_side": int(step.max_side)}
+    if model in FORCE_POSITION_MODELS:
+        return {"kind": "loading_compliance", "features": list(step.features), "onset": float(step.onset),
+                "drive_compliance": float(step.drive_compliance)}
     return None
 
 
 def make_estimator(model, cfg, seed, n_classes, dropout=None):
     """A fresh classifier for one run: a named model's net from its factory, or a seeded clone."""
     dropout = cfg["dropout"] if dropout is None else dropout
-    if model == "contact_profile":
+    if model in LOGISTIC_MODELS:
         # a logistic regression, refitted on all its presses at each iteration: no epochs, learning
         # rate, dropout or batches; its samples come from the Laplace posterior
         return model_pipeline(model, cfg, random_state=int(seed)).named_steps["clf"]

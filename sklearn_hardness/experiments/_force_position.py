@@ -1,0 +1,38 @@
+"""Each press's force and position per frame, as ``(T, 2)`` arrays: the input of ``loading_compliance``.
+
+Shared by ``evaluate`` and the experiments, which read them from a dataset's
+``force`` and ``position`` (a manifest's ``force_path`` and ``position_path``,
+the simulator's presets).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["force_position", "presses_lacking_force_position"]
+
+
+def presses_lacking_force_position(data):
+    """Indices of the presses of ``data`` without force or position per frame."""
+    force, position = getattr(data, "force", None), getattr(data, "position", None)
+    return [i for i in range(len(data.target))
+            if force is None or position is None or force[i] is None or position[i] is None]
+
+
+def force_position(data, names):
+    """Each press's ``(T, 2)`` force and position, for the pipelines ``names`` that read them."""
+    lacking = presses_lacking_force_position(data)
+    if lacking:
+        shown = ", ".join(map(str, lacking[:10])) + (", ..." if len(lacking) > 10 else "")
+        raise ValueError(
+            f"pipeline(s) {names} read each press's force and position per frame, and {len(lacking)} of "
+            f"{len(data.target)} presses have none (presses {shown}): give a manifest force_path and "
+            "position_path columns (position in mm, growing as the sensor moves into the object), or a "
+            "dataset Bunch with force and position lists.")
+    out = []
+    for i, (f, z) in enumerate(zip(data.force, data.position)):
+        f, z = np.asarray(f, dtype=float).ravel(), np.asarray(z, dtype=float).ravel()
+        if len(f) != len(z):
+            raise ValueError(f"press {i} has {len(f)} force values but {len(z)} positions; both are per frame.")
+        out.append(np.column_stack([f, z]))
+    return out
