@@ -97,6 +97,25 @@ def test_a_video_re_recorded_in_place_is_prepared_again(tmp_path, monkeypatch):
     assert calls == [1, 1]
 
 
+def test_force_or_position_rewritten_in_place_is_prepared_again_for_loading_compliance(tmp_path):
+    """Its inputs are the force and position series: the cache follows their content, the videos' keys stay."""
+    manifest = _manifest(tmp_path)
+    spec = _data._dataset_spec(manifest, {})
+    cfg = check_config(dict(get_config("silicone5", **TINY), model="loading_compliance", frame_size=None))
+    features = _data._feature_params(cfg, "loading_compliance")
+    key = _data._cache_spec(spec, features)
+    assert _data._cache_spec(spec, features) == key and _data._cache_spec(spec) != key
+    first = _data.prepare_inputs(manifest, cfg, "loading_compliance", memory=tmp_path / "cache", verbose=0).X
+    path = tmp_path / "sim" / "position" / "press_0003.npy"
+    np.save(path, 2.0 * np.load(path))  # the sensor travelled twice as far: twice the compliance
+    assert _data._cache_spec(spec, features) != key
+    assert _data._cache_spec(spec) == _data._cache_spec(spec, None)  # the video models' keys do not change
+    _data._MEMO.clear()
+    again = _data.prepare_inputs(manifest, cfg, "loading_compliance", memory=tmp_path / "cache", verbose=0).X
+    np.testing.assert_allclose(again[3], first[3] + np.log(2.0), rtol=1e-5)
+    np.testing.assert_array_equal(np.delete(again, 3, axis=0), np.delete(first, 3, axis=0))
+
+
 def test_cache_is_cleared_by_function_and_command(tmp_path, capsys):
     from sklearn_hardness._cli import main
 

@@ -177,16 +177,20 @@ def clear_cache(folder=None):
     return removed
 
 
-def _cache_spec(spec):
+def _cache_spec(spec, feature_params=None):
     """``spec`` for the cache keys: a manifest's also covers the size and mtime of every video it lists,
-    so a video re-recorded in place is prepared again."""
+    so a video re-recorded in place is prepared again, and for inputs made of force and position
+    (``loading_compliance``) the content of those series."""
     if spec is None or spec[0] != "manifest":
         return spec
 
+    data = load_press_videos(spec[1])  # reads the force and position series in full, the videos lazily
     stamps = []
-    for path in load_press_videos(spec[1]).paths:
+    for path in data.paths:
         st = os.stat(path)
         stamps.append((os.fspath(path), st.st_size, st.st_mtime_ns))
+    if feature_params is not None and feature_params.get("kind") == "loading_compliance":
+        stamps.append(joblib.hash((data.force, data.position)))
     return spec + (joblib.hash(stamps),)
 
 
@@ -272,7 +276,7 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, n_jobs=None):
         data = load_dataset(dataset, cfg)
         X, y = _compute(None, data, cfg, frame_params, feature_params, verbose, n_jobs)
     else:
-        key_spec = _cache_spec(spec)
+        key_spec = _cache_spec(spec, feature_params)
         memo_key = joblib.hash((key_spec, frame_params, feature_params))
         if memo_key in _MEMO:
             X, y, data = _MEMO[memo_key]
