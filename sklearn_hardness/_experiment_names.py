@@ -39,7 +39,9 @@ KEY_HELP = {
     "model": "classifier: convlstm (silicone5), ofnn or dinov2nn (shore9), contact_profile_nn "
              "(ContactProfileFeatures of the whole video + an MC-dropout MLP, standardised per run) or "
              "contact_profile (the same features + a logistic regression sampled from its Laplace "
-             "posterior; refitted at each iteration, epochs, lr, dropout and batch_size do not apply)",
+             "posterior; refitted at each iteration, epochs, lr, dropout and batch_size do not apply) or "
+             "loading_compliance (each press's force and sensor position, no video: the Hertz compliance "
+             "+ the same logistic regression; the dataset needs force and position)",
     "n_initial": "s0: presses per reference object in the initial training set",
     "n_per_query": "s: presses of the queried object added per iteration",
     "n_iterations": "N: active-sampling iterations",

@@ -533,3 +533,13 @@ def test_by_default_evaluate_adds_loading_compliance_where_every_press_has_force
     evaluate_pipelines(tiny, None, cv=3, verbose=0)
     assert asked[:-1] == [*DEFAULT_PIPELINES, "loading_compliance"] and asked[-1] == "peak_change"
     assert build_parser().parse_args(["evaluate", "everyday"]).pipelines is None
+
+
+def test_a_multi_axis_force_is_an_error_that_says_which_component_to_give(tiny):
+    three_axis = Bunch(**tiny)
+    three_axis.force = [np.column_stack([f, f, f]) if i == 2 else f for i, f in enumerate(tiny.force)]
+    with pytest.raises(ValueError, match=r"press 2: force must be one number per frame.*shape \(\d+, 3\)"):
+        evaluate_pipelines(three_axis, ["loading_compliance"], cv=3, verbose=0)
+    column = Bunch(**tiny)
+    column.position = [z[:, None] for z in tiny.position]  # (T, 1) is one number per frame
+    assert evaluate_pipelines(column, ["loading_compliance"], cv=3, verbose=0).table[1]["error"] is None

@@ -19,6 +19,15 @@ def presses_lacking_force_position(data):
             if force is None or position is None or force[i] is None or position[i] is None]
 
 
+def _per_frame(series, what, i):
+    """One number per frame: shape (T,), or (T, 1) / (1, T) flattened; anything else is an error."""
+    arr = np.asarray(series, dtype=float)
+    if arr.ndim == 1 or (arr.ndim == 2 and 1 in arr.shape):
+        return arr.ravel()
+    raise ValueError(f"press {i}: {what} must be one number per frame, shape (T,); got shape {arr.shape}. "
+                     "For a multi-axis force/torque sensor, pass the component along the press axis.")
+
+
 def force_position(data, names):
     """Each press's ``(T, 2)`` force and position, for the pipelines ``names`` that read them."""
     lacking = presses_lacking_force_position(data)
@@ -31,7 +40,7 @@ def force_position(data, names):
             "dataset Bunch with force and position lists.")
     out = []
     for i, (f, z) in enumerate(zip(data.force, data.position)):
-        f, z = np.asarray(f, dtype=float).ravel(), np.asarray(z, dtype=float).ravel()
+        f, z = _per_frame(f, "force", i), _per_frame(z, "position", i)
         if len(f) != len(z):
             raise ValueError(f"press {i} has {len(f)} force values but {len(z)} positions; both are per frame.")
         out.append(np.column_stack([f, z]))
