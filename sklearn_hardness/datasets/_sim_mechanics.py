@@ -133,7 +133,8 @@ def simulate_press(rng, *, c_gel, c_obj, dome_radius, m, c_drive, f_push, v_push
         else:
             z[k] = z_max - v_ret * (t - t_ret0)
     force = force_from_position(z, c_tot, c_drive, m)
-    approach = np.clip(z - c_drive * force, 0.0, None)
+    sensor = z - c_drive * force  # where the sensor is: negative before contact (the gap)
+    approach = np.clip(sensor, 0.0, None)
     share = c_gel / c_tot
     gel = share * approach
     obj = approach - gel
@@ -145,7 +146,7 @@ def simulate_press(rng, *, c_gel, c_obj, dome_radius, m, c_drive, f_push, v_push
         force=recorded,
         force_true=force,
         position=z,
-        sensor_position=z - c_drive * force,
+        sensor_position=sensor,
         approach=approach,
         gel_indentation=gel,
         object_indentation=obj,

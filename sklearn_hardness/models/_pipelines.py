@@ -323,6 +323,11 @@ def make_dinov2nn_pipeline(*, n_between=1, frame_size=(112, 150), model="faceboo
                      ("clf", DINOv2NNClassifier(**classifier_params))])
 
 
+def _logistic_head(params):
+    """The pipelines' logistic head: balanced classes and 2000 iterations unless ``params`` say otherwise."""
+    return LaplaceLogisticRegression(**{"class_weight": "balanced", "max_iter": 2000, **params})
+
+
 def make_contact_profile_pipeline(*, head="logistic", max_side=80, roi=None, **classifier_params):
     """Videos -> :class:`~sklearn_hardness.features.ContactProfileFeatures` -> scaler -> classifier.
 
@@ -413,9 +418,7 @@ def make_contact_profile_pipeline(*, head="logistic", max_side=80, roi=None, **c
         hint = f"; {takes} belong to head={other!r}" if takes else ""
         raise TypeError(f"head={head!r} ({heads[head].__name__}) takes no parameter(s) {unknown}{hint}.")
     classifier_params.setdefault("class_weight", "balanced")
-    if head == "logistic":
-        classifier_params.setdefault("max_iter", 2000)
-    clf = heads[head](**classifier_params)
+    clf = _logistic_head(classifier_params) if head == "logistic" else heads[head](**classifier_params)
     return MCDropoutPipeline([("features", ContactProfileFeatures(max_side=max_side, roi=roi)),
                               ("scale", StandardScaler()), ("clf", clf)])
 
@@ -504,12 +507,11 @@ def make_loading_compliance_pipeline(*, features=("hertz_compliance",), onset=0.
     unknown = sorted(k for k in classifier_params if k not in LaplaceLogisticRegression().get_params(deep=False))
     if unknown:
         raise TypeError(f"LaplaceLogisticRegression takes no parameter(s) {unknown}.")
-    classifier_params.setdefault("class_weight", "balanced")
-    classifier_params.setdefault("max_iter", 2000)
+    clf = _logistic_head(classifier_params)
     return MCDropoutPipeline([
         ("features", LoadingCompliance(features=features, onset=onset, drive_compliance=drive_compliance)),
         ("log", FunctionTransformer(_log_positive, feature_names_out="one-to-one")),
         ("impute", SimpleImputer(strategy="median")),
         ("scale", StandardScaler()),
-        ("clf", LaplaceLogisticRegression(**classifier_params)),
+        ("clf", clf),
     ])
