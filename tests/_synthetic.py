@@ -78,3 +78,18 @@ def framed_press(press, rng):
     frame = np.clip(frame, 0, 255).astype(np.uint8)
     frame[:, 8:40, 16:48] = press
     return frame
+
+
+def hertz_press(c, f_peak, *, n_before=5, n_load=20, n_hold=6, offset=3.0, c_drive=0.0, noise=0.0, rng=None):
+    """A press of a Hertz object: position = offset + c F^(2/3) + c_drive F, force 0 before contact.
+
+    The force rises linearly to ``f_peak`` over ``n_load`` frames, holds, then falls back;
+    ``noise`` is the s.d. of the recorded force (N).
+    """
+    load = np.linspace(0.0, f_peak, n_load + 1)[1:]
+    force = np.concatenate([np.zeros(n_before), load, np.full(n_hold, f_peak), load[::-1][1:]])
+    position = offset + c * force ** (2 / 3) + c_drive * force
+    position[:n_before] = offset - np.linspace(2.0, 0.1, n_before)  # still approaching: no force
+    if noise:
+        force = force + (rng or np.random.default_rng(0)).normal(0.0, noise, len(force))
+    return np.column_stack([force, position])

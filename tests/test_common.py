@@ -57,7 +57,7 @@ from sklearn_hardness.models import (
 from sklearn_hardness.preprocessing import ContactFrameSelector
 from sklearn_hardness.utils.estimator_checks import parametrize_with_video_checks
 
-from ._synthetic import synthetic_press
+from ._synthetic import hertz_press, synthetic_press
 
 
 def _tiny_dinov2_backbone():
@@ -252,12 +252,9 @@ def _table(n=30, seed=0):
 
 
 def _force_position(n=6, seed=0):
-    rng = np.random.default_rng(seed)
-    X = []
-    for i in range(n):  # lengths differ; position = offset + c F^(2/3), noisy force
-        force = np.concatenate([np.zeros(3), np.linspace(0.2, rng.uniform(2, 6), 8 + i), np.full(3, 1.0)])
-        X.append(np.column_stack([force + rng.normal(0, 0.02, len(force)),
-                                  rng.uniform(-5, 5) + (1 + i % 2) * force ** (2 / 3)]))
+    rng = np.random.default_rng(seed)  # lengths differ; position = offset + c F^(2/3), noisy force
+    X = [hertz_press(1 + i % 2, rng.uniform(2, 6), n_load=8 + i, offset=rng.uniform(-5, 5), noise=0.02, rng=rng)
+         for i in range(n)]
     return X, np.arange(n) % 2
 
 

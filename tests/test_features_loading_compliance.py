@@ -13,23 +13,10 @@ from sklearn_hardness.features import LoadingCompliance
 from sklearn_hardness.models import make_loading_compliance_pipeline
 from sklearn_hardness.models._pipelines import _log_positive
 
+from ._synthetic import hertz_press
+
 #: Hertz compliance (mm per N^(2/3)) of the three classes: hard, moderate, soft.
 COMPLIANCE = np.array([0.5, 1.0, 2.0])
-
-
-def hertz_press(c, f_peak, *, n_before=5, n_load=20, n_hold=6, offset=3.0, c_drive=0.0, noise=0.0, rng=None):
-    """A press of a Hertz object: position = offset + c F^(2/3) + c_drive F, force 0 before contact.
-
-    The force rises linearly to ``f_peak`` over ``n_load`` frames, holds, then falls back;
-    ``noise`` is the s.d. of the recorded force (N).
-    """
-    load = np.linspace(0.0, f_peak, n_load + 1)[1:]
-    force = np.concatenate([np.zeros(n_before), load, np.full(n_hold, f_peak), load[::-1][1:]])
-    position = offset + c * force ** (2 / 3) + c_drive * force
-    position[:n_before] = offset - np.linspace(2.0, 0.1, n_before)  # still approaching: no force
-    if noise:
-        force = force + (rng or np.random.default_rng(0)).normal(0.0, noise, len(force))
-    return np.column_stack([force, position])
 
 
 def presses(n, forces, seed=0, spread=0.1):
