@@ -10,6 +10,12 @@ Nothing here may import anything beyond the standard library.
 
 #: Classifiers selectable by name in the experiments (``model=...``, ``reproduce --model``).
 MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn", "contact_profile", "loading_compliance")
+#: Named models that read ContactProfileFeatures of the whole video (no frame selection).
+CONTACT_PROFILE_MODELS = ("contact_profile_nn", "contact_profile")
+#: Named models that read each press's force and position, not its video.
+FORCE_POSITION_MODELS = ("loading_compliance",)
+#: Named models whose head is a logistic regression refitted per iteration (no epochs or dropout).
+LOGISTIC_MODELS = ("contact_profile", "loading_compliance")
 
 #: Pipelines ``evaluate`` knows by name (``"peak_change"`` is the one-number baseline;
 #: ``"loading_compliance"`` reads each press's force and position, not its video).

@@ -107,3 +107,23 @@ def test_reproduce_runs_it_quick_on_the_everyday_preset(tmp_path, capsys):
                      "--out", str(tmp_path / "out"), "--quiet"]) == 0
     text = capsys.readouterr().out
     assert "loading_compliance" in text and "refitted per iteration" in text and "thompson" in text
+
+
+def test_model_baselines_run_quick_beside_a_video_model_each_with_its_own_frames(everyday):
+    """``quick``'s frame size is the ConvLSTM's: a model that selects no frames keeps none, in the same call.
+
+    Before, the baselines applied the quick frame size to every model and
+    ``loading_compliance`` (or ``contact_profile``) failed in ``check_config``.
+    """
+    from sklearn_hardness.experiments import run_model_baselines
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        result = run_model_baselines(everyday, models=("loading_compliance", "ofnn"), n_train_per_class=2,
+                                     n_test_per_class=1, n_runs=1, quick=True, initial_epochs=2, memory=False,
+                                     verbose=0)
+    by_model = {r["key"]["model"]: r for r in result.records}
+    assert set(by_model) == {"loading_compliance", "ofnn"}
+    assert by_model["loading_compliance"]["train_loss"] is None  # a logistic head, no epochs
+    assert len(by_model["ofnn"]["train_loss_curve"]) == 2
+    assert result.config["frame_size"] == (12, 16)  # the runs' shared settings keep quick's frames

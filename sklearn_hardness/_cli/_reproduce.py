@@ -8,7 +8,7 @@ import os
 import sys
 import textwrap
 
-from .._experiment_names import MODEL_NAMES
+from .._experiment_names import LOGISTIC_MODELS, MODEL_NAMES
 from ._common import (
     _SIM_PRESETS,
     _add_quiet,
@@ -250,7 +250,7 @@ def _run_reproduce(args):
     rows = comparison_table(result)
     n_it = cfg["n_iterations"]
     table = format_table(rows, mae_unit=cfg.get("hardness_unit"))
-    if cfg["model"] in ("contact_profile", "loading_compliance"):  # a logistic regression refitted per iteration
+    if cfg["model"] in LOGISTIC_MODELS:  # a logistic regression refitted per iteration
         training = (f"M={cfg['max_reservoir']}, refitted per iteration, n_test={cfg['n_test']}, "
                     f"Laplace posterior samples={cfg['n_mc_samples']}")
     else:

@@ -13,9 +13,8 @@ import numpy as np
 
 from .._experiment_names import STRATEGIES
 from ..active._strategies import check_strategies
-from ._config import check_config, config_hash, get_config, resolve_convergence_threshold
+from ._config import config_hash, resolve_convergence_threshold, run_config
 from ._data import _dataset_spec, load_dataset, prepare_inputs
-from ._models import describe_model
 from ._results import ExperimentResult, ResultsStore
 from ._run import _active_pair, _seeds, _split_objects
 from ._runner import run_tasks
@@ -105,21 +104,6 @@ def _dataset_name(dataset):
     return "a Bunch"
 
 
-def _run_config(dataset, preset, model, n_runs, quick, config):
-    """The checked configuration of :func:`run_active_sampling` (what it hashes, with the data's id)."""
-    if preset is None:
-        preset = dataset if isinstance(dataset, str) and dataset in ("silicone5", "shore9") else "silicone5"
-    if n_runs is not None:
-        config = dict(config, n_runs=n_runs)
-    if isinstance(model, str):  # get_config's quick settings depend on the model (frames or none)
-        config = dict(config, model=model)
-    cfg = get_config(preset, quick=quick, **config)
-    model = cfg["model"] if model is None else model
-    cfg["model"] = describe_model(model)
-    check_config(cfg)
-    return cfg, model
-
-
 def planned_config_hash(dataset="silicone5", *, preset=None, model=None, n_runs=None, quick=False, **config):
     """The configuration hash :func:`run_active_sampling` gives these arguments, without running.
 
@@ -146,7 +130,7 @@ def planned_config_hash(dataset="silicone5", *, preset=None, model=None, n_runs=
     >>> len(planned_config_hash("silicone5", quick=True))
     12
     """
-    cfg, _ = _run_config(dataset, preset, model, n_runs, quick, config)
+    cfg, _ = run_config(dataset, preset, model, n_runs, quick, config)
     spec = _dataset_spec(dataset, cfg)
     if spec is None:
         raise ValueError("dataset must be a simulator preset or a manifest CSV path to hash it before a run.")
@@ -324,7 +308,7 @@ def run_active_sampling(
                                   results_path="runs.jsonl")
         print(format_table(comparison_table(res)))
     """
-    cfg, model = _run_config(dataset, preset, model, n_runs, quick, config)
+    cfg, model = run_config(dataset, preset, model, n_runs, quick, config)
     strategies, names = check_strategies(strategies)
     # the factory's scale step is fitted per run on its training presses (_run._input_scaler)
     inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose, n_jobs=n_jobs)

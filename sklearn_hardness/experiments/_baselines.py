@@ -10,9 +10,9 @@ import numpy as np
 from ..metrics import hardness_mae
 from ..models import is_converged
 from ..utils._random import derived_seeds
-from ._config import check_config, config_hash, get_config, resolve_convergence_threshold
+from ._config import config_hash, default_preset, get_config, resolve_convergence_threshold, run_config
 from ._data import prepare_inputs
-from ._models import describe_model, input_scaler, make_estimator
+from ._models import input_scaler, make_estimator
 from ._evaluate import _named_pipeline, evaluate_pipelines
 from ._results import ExperimentResult, ResultsStore
 from ._runner import run_tasks
@@ -61,12 +61,6 @@ def _check_n(value, name):
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
         raise ValueError(f"{name} must be a positive int, got {value!r}.")
     return int(value)
-
-
-def _common(dataset, preset, quick, config):
-    if preset is None:
-        preset = dataset if isinstance(dataset, str) and dataset in ("silicone5", "shore9") else "silicone5"
-    return get_config(preset, quick=quick, **config)
 
 
 def _check_counts(y, n_classes, need, names):
@@ -146,7 +140,7 @@ def run_model_baselines(
     n_train = _check_n(n_train_per_class, "n_train_per_class")
     n_test = _check_n(n_test_per_class, "n_test_per_class")
     n_runs = _check_n(n_runs, "n_runs")
-    cfg = _common(dataset, preset, quick, config)
+    cfg = get_config(default_preset(dataset, preset), quick=quick, **config)  # the runs' shared settings
     if isinstance(models, str):
         models = (models,)
     pairs = []
@@ -161,7 +155,7 @@ def run_model_baselines(
     store = ResultsStore(results_path)
     records = []
     for name, model in pairs:
-        mcfg = check_config(dict(cfg, model=describe_model(model)))
+        mcfg, _ = run_config(dataset, preset, model, None, quick, config)  # quick's frame size is per model
         inputs = prepare_inputs(dataset, mcfg, model, memory=memory, verbose=verbose, n_jobs=n_jobs)
         _check_counts(inputs.y, inputs.n_classes, n_train + n_test, inputs.target_names)
         resolve_convergence_threshold(mcfg, inputs.n_classes)
@@ -225,13 +219,10 @@ def run_dropout_sweep(
     for d in dropouts:
         if not 0.0 <= d < 1.0:
             raise ValueError(f"dropout rates must lie in [0, 1), got {d!r}.")
-    cfg = _common(dataset, preset, quick, config)
-    model = cfg["model"] if model is None else model
+    cfg, model = run_config(dataset, preset, model, None, quick, config)
     if not isinstance(model, str):
         if not any(k == "dropout" or k.endswith("__dropout") for k in model.get_params(deep=True)):
             raise ValueError(f"{type(model).__name__} has no dropout parameter to sweep.")
-    cfg["model"] = describe_model(model)
-    check_config(cfg)
     inputs = prepare_inputs(dataset, cfg, model, memory=memory, verbose=verbose, n_jobs=n_jobs)
     _check_counts(inputs.y, inputs.n_classes, n_train + n_test, inputs.target_names)
     resolve_convergence_threshold(cfg, inputs.n_classes)

@@ -18,14 +18,14 @@ import numbers
 import numpy as np
 from sklearn.utils._param_validation import Interval, StrOptions, validate_parameter_constraints
 
+from .._experiment_names import CONTACT_PROFILE_MODELS as _CONTACT_PROFILE_MODELS
+from .._experiment_names import FORCE_POSITION_MODELS as _FORCE_POSITION_MODELS
 from .._experiment_names import KEY_HELP as _KEY_HELP
+from .._experiment_names import LOGISTIC_MODELS as _LOGISTIC_MODELS
 from .._experiment_names import MODEL_NAMES, QUICK_OVERRIDES
 from ..models import chance_scaled_threshold
 from ..utils._param_validation import FRAME_SIZE
-from ._models import CONTACT_PROFILE_MODELS as _CONTACT_PROFILE_MODELS
-from ._models import FORCE_POSITION_MODELS as _FORCE_POSITION_MODELS
-from ._models import LOGISTIC_MODELS as _LOGISTIC_MODELS
-from ._models import default_frame_size
+from ._models import default_frame_size, describe_model
 from ._models import input_name as _input_name
 
 __all__ = ["PRESET_CONFIGS", "QUICK_OVERRIDES", "MODEL_NAMES", "get_config", "config_hash"]
@@ -149,6 +149,30 @@ def get_config(preset="silicone5", *, quick=False, **overrides):
 if get_config.__doc__:  # None under python -OO
     get_config.__doc__ = get_config.__doc__.replace("{keys}", "\n".join(
         f"        ``{key}``\n            {meaning}." for key, meaning in _KEY_HELP.items()))
+
+
+def default_preset(dataset, preset):
+    """The preset whose configuration an experiment on ``dataset`` starts from."""
+    if preset is None:
+        preset = dataset if isinstance(dataset, str) and dataset in ("silicone5", "shore9") else "silicone5"
+    return preset
+
+
+def run_config(dataset, preset, model, n_runs, quick, config):
+    """The checked configuration of one model's runs (what they hash, with the data's id), and the model.
+
+    ``quick``'s frame size depends on the model (frames or none), so a model
+    given by name is passed to :func:`get_config`.
+    """
+    if n_runs is not None:
+        config = dict(config, n_runs=n_runs)
+    if isinstance(model, str):
+        config = dict(config, model=model)
+    cfg = get_config(default_preset(dataset, preset), quick=quick, **config)
+    model = cfg["model"] if model is None else model
+    cfg["model"] = describe_model(model)
+    check_config(cfg)
+    return cfg, model
 
 
 def _ints_from(low):

@@ -18,7 +18,7 @@ import numpy as np
 from sklearn.base import BaseEstimator, clone
 from sklearn.pipeline import Pipeline
 
-from .._experiment_names import MODEL_NAMES
+from .._experiment_names import CONTACT_PROFILE_MODELS, FORCE_POSITION_MODELS, LOGISTIC_MODELS, MODEL_NAMES
 from .. import models
 from ..models import EarlyStoppingAfterFirstFit
 from ..utils._random import set_random_states
@@ -52,12 +52,6 @@ PAPER_CHOICES = {
     "loading_compliance": {"class_weight": None},
 }
 
-#: Named models that read ContactProfileFeatures of the whole video (no frame selection).
-CONTACT_PROFILE_MODELS = ("contact_profile_nn", "contact_profile")
-#: Named models that read each press's force and position, not its video.
-FORCE_POSITION_MODELS = ("loading_compliance",)
-#: Named models whose head is a logistic regression refitted per iteration (no epochs or dropout).
-LOGISTIC_MODELS = ("contact_profile", "loading_compliance")
 
 
 def input_name(model):
