@@ -8,8 +8,10 @@ a balanced logistic regression on
 - the one number (:func:`~sklearn_hardness.experiments.peak_contact_change`:
   the ``peak_change`` baseline of ``evaluate``);
 - the first ten :class:`~sklearn_hardness.features.ContactProfileFeatures`
-  (the features before issue 20's loading time and contact spread) and all of
-  them (the ``contact_profile`` pipeline of ``evaluate``);
+  (the features before issue 20's loading time and contact spread), all of
+  them (the ``contact_profile`` pipeline of ``evaluate``) and the three that
+  read the ideal reader's quantities below (``features=THREE``: peak change,
+  loading time between frames, contact spread);
 - the simulator's own truth of what the gel is given, read without noise or
   codec (an ideal reader of the video): the rendered gel depth and contact
   area at the peak of the gel's indentation and the loading time (s, from
@@ -68,9 +70,14 @@ from _memory import peak_rss_mb, reset_peak
 from _output import report
 from _sim_variants import VARIANTS, variant_params
 from bench_sim_vs_real_stats import parse_param, press_objects
+from sklearn_hardness.features._contact_profile import FEATURE_NAMES
 
 ROWS = ("one number (peak change)", "contact profile, first 10 features", "contact profile, 12 features",
+        "contact profile, 3 features: peak change, loading time, spread",
         "ideal reader of the gel: depth, area, loading time", "force and approach (robot)")
+
+#: The video's readings of the ideal reader's three quantities (``features=`` of ContactProfileFeatures).
+THREE = ("log_peak_change", "log_loading_time", "log_contact_spread")
 
 
 def video_features(videos, i):
@@ -195,8 +202,9 @@ def run_seed(seed, overrides, n_jobs, with_heads=False, with_net_inputs=False):
         ROWS[0]: scores(V[:, :1], y, folds),
         ROWS[1]: scores(V[:, 1:11], y, folds),
         ROWS[2]: scores(V[:, 1:], y, folds),
-        ROWS[3]: scores(np.nan_to_num(ideal[:, :3]), y, ideal_folds),
-        ROWS[4]: scores(np.nan_to_num(ideal[:, 3:]), y, ideal_folds),
+        ROWS[3]: scores(V[:, [1 + FEATURE_NAMES.index(n) for n in THREE]], y, folds),
+        ROWS[4]: scores(np.nan_to_num(ideal[:, :3]), y, ideal_folds),
+        ROWS[5]: scores(np.nan_to_num(ideal[:, 3:]), y, ideal_folds),
     }
     head_scores = {}
     if with_heads:

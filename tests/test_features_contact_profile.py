@@ -138,7 +138,8 @@ def test_roi_smaller_than_two_pixels_names_the_video():
         ContactProfileFeatures(roi=(0.0, 0.1, 0.0, 1.0)).fit_transform(videos)
 
 
-@pytest.mark.parametrize("params", [dict(max_side=2), dict(noise_factor=0), dict(noise_factor="3")])
+@pytest.mark.parametrize("params", [dict(max_side=2), dict(noise_factor=0), dict(noise_factor="3"),
+                                    dict(features="some"), dict(features=3)])
 def test_bad_parameters(params):
     with pytest.raises(InvalidParameterError):
         ContactProfileFeatures(**params).fit([np.zeros((3, 8, 8, 3), np.uint8)])
@@ -159,3 +160,58 @@ def test_contact_profile_pipeline_in_evaluate():
     result = evaluate_pipelines(d, ["contact_profile"], cv=3)
     assert [r["pipeline"] for r in result.table] == ["peak_change", "contact_profile"]
     assert np.isfinite(result.table[1]["balanced_accuracy"])
+
+
+def test_features_pick_and_order_the_columns_of_the_twelve():
+    rng = np.random.default_rng(4)
+    X = [_press(3, 6, rng), _press(20, 9, rng), _press(8, 4, rng)]
+    full = ContactProfileFeatures().fit(X)
+    names = full.get_feature_names_out().tolist()
+    picked = ["log_loading_time", "log_peak_change", "log_contact_spread"]
+    est = ContactProfileFeatures(features=picked).fit(X)
+    assert est.features_ == tuple(picked) and est.n_features_out_ == 3
+    assert est.get_feature_names_out().tolist() == picked
+    np.testing.assert_array_equal(est.transform(X), full.transform(X)[:, [names.index(n) for n in picked]])
+    assert full.features_ == tuple(names) and full.n_features_out_ == 12
+
+
+@pytest.mark.parametrize("features, message", [
+    (["log_peak_change", "stiffness"], "got unknown \\['stiffness'\\]"),
+    (["rise_frames", "rise_frames"], "got \\['rise_frames'\\] more than once"),
+    ([], "got none"),
+])
+def test_bad_feature_names_are_named_with_the_known_ones(features, message):
+    with pytest.raises(ValueError, match=message + ".*|.*log_contact_spread"):
+        ContactProfileFeatures(features=features).fit([np.zeros((3, 8, 8, 3), np.uint8)])
+
+
+def test_a_grid_search_over_features_finds_the_one_that_tells_the_classes():
+    """Classes differ in loading time only; contact size and strength vary per object as nuisances.
+
+    Object-disjoint, a search over ``features__features`` keeps the loading
+    time (>= 0.9), where the contact's size alone is near chance: the
+    parameter changes what the head reads.
+    """
+    from sklearn.model_selection import GridSearchCV, StratifiedGroupKFold
+
+    from sklearn_hardness.models import make_contact_profile_pipeline
+
+    rng = np.random.default_rng(7)
+    videos, y, groups = [], [], []
+    for obj in range(18):
+        cls = obj % 3
+        radius, level = rng.uniform(4, 12), rng.uniform(25, 60)  # the object's shape and the press's strength
+        for _ in range(3):
+            videos.append(growing_disc_press((3, 9, 24)[cls] + int(rng.integers(-1, 2)), radius, rng, n=50,
+                                             level=level * rng.uniform(0.9, 1.1)))
+            y.append(cls)
+            groups.append(obj)
+    y, groups = np.array(y), np.array(groups)
+    grid = GridSearchCV(make_contact_profile_pipeline(),
+                        {"features__features": [["area_at_peak"], ["log_loading_time"], "all"]},
+                        cv=StratifiedGroupKFold(3, shuffle=True, random_state=0), scoring="balanced_accuracy").fit(videos, y, groups=groups)
+    scores = dict(zip(map(str, grid.cv_results_["param_features__features"]), grid.cv_results_["mean_test_score"]))
+    assert grid.best_params_["features__features"] == ["log_loading_time"]
+    assert scores["['log_loading_time']"] >= 0.9
+    assert scores["['area_at_peak']"] <= 0.6
+    assert grid.best_estimator_["clf"].coef_.shape == (3, 1)

@@ -95,7 +95,8 @@ def test_bad_input_is_an_error_that_names_it(X, error, match):
 
 @pytest.mark.parametrize("params, match", [
     (dict(features=["hertz_compliance", "stiffness"]), "unknown \\['stiffness'\\]"),
-    (dict(features=[]), "must not be empty"),
+    (dict(features=[]), "got none"),
+    (dict(features=["travel", "travel"]), "got \\[.travel.\\] more than once"),
     (dict(onset=1.0), "onset"),
     (dict(min_loading_frames=1), "min_loading_frames"),
     (dict(drive_compliance=-0.1), "drive_compliance"),

@@ -1,4 +1,4 @@
-"""Helpers shared by the feature transformers: per-sample intensity scaling."""
+"""Helpers shared by the feature transformers: per-sample intensity scaling, named output columns."""
 
 from __future__ import annotations
 
@@ -48,3 +48,23 @@ def to_uint8_grey(X, value_range):
         np.clip(np.rint(g, out=g), 0, 255, out=g)
         out[i] = g
     return out
+
+
+def check_feature_names(features, known, name="features"):
+    """The output columns a ``features`` parameter names, as a tuple, checked against ``known``.
+
+    ``"all"`` gives ``known`` in its order; a sequence gives its names in its
+    own order. Unknown, repeated or no names are an error that lists the
+    known ones.
+    """
+    if isinstance(features, str):  # "all" (the constraint allows no other string)
+        return tuple(known)
+    features = tuple(features)
+    unknown = [f for f in features if f not in known]
+    repeated = sorted({f for f in features if features.count(f) > 1})
+    if unknown or repeated or not features:
+        problem = (f"got unknown {unknown}" if unknown else f"got {repeated} more than once" if repeated
+                   else "got none")
+        raise ValueError(f"{name} must be 'all' or a non-empty sequence of distinct names from {list(known)}; "
+                         f"{problem}.")
+    return features

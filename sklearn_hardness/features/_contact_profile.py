@@ -8,15 +8,17 @@ import cv2
 import numpy as np
 from joblib import Parallel, delayed
 from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
-from sklearn.utils._param_validation import Interval
+from sklearn.utils._param_validation import Interval, StrOptions
 from sklearn.utils.validation import check_is_fitted
 
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
+from ._common import check_feature_names
 
 __all__ = ["ContactProfileFeatures"]
 
-_NAMES = (
+#: Every feature, in output order when ``features="all"`` (the first ten are those before issue 20).
+FEATURE_NAMES = (
     "log_peak_change",
     "peak_over_precontact",
     "rise_frames",
@@ -151,6 +153,13 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
 
     Parameters
     ----------
+    features : "all" or sequence of str, default="all"
+        Which features to output, in this order (names as in
+        :meth:`get_feature_names_out`); ``"all"`` is the twelve, the first
+        ten those before issue 20. Every feature is computed either way; a
+        subset is a choice of columns that ``GridSearchCV`` can make on a
+        user's own presses (``features__features`` in
+        :func:`~sklearn_hardness.models.make_contact_profile_pipeline`).
     max_side : int, default=80
         Frames are strided down to about this many pixels on their long side.
     noise_factor : float, default=3.0
@@ -171,8 +180,10 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
 
     Attributes
     ----------
+    features_ : tuple of str
+        The output features, in order.
     n_features_out_ : int
-        Number of features (12; the first ten are those before issue 20).
+        Their number (12 for ``features="all"``).
 
     See Also
     --------
@@ -187,16 +198,20 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
     ...     video[t, 16 - t // 2:16 + t // 2, 16 - t // 2:16 + t // 2] = 140
     >>> ContactProfileFeatures().fit_transform([video]).shape
     (1, 12)
+    >>> ContactProfileFeatures(features=["log_peak_change", "log_loading_time"]).fit([video]).get_feature_names_out()
+    array(['log_peak_change', 'log_loading_time'], dtype=object)
     """
 
     _parameter_constraints: dict = {
+        "features": [StrOptions({"all"}), list, tuple],
         "max_side": [Interval(numbers.Integral, 8, None, closed="left")],
         "noise_factor": [Interval(numbers.Real, 0, None, closed="neither")],
         "roi": [None, tuple, list],
         "n_jobs": [numbers.Integral, None],
     }
 
-    def __init__(self, max_side=80, noise_factor=3.0, roi=None, n_jobs=None):
+    def __init__(self, features="all", max_side=80, noise_factor=3.0, roi=None, n_jobs=None):
+        self.features = features
         self.max_side = max_side
         self.noise_factor = noise_factor
         self.roi = roi
@@ -218,7 +233,8 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         """
         check_roi(self.roi)
         check_video_sequence(X)
-        self.n_features_out_ = len(_NAMES)
+        self.features_ = check_feature_names(self.features, FEATURE_NAMES)
+        self.n_features_out_ = len(self.features_)
         return self
 
     def transform(self, X):
@@ -232,14 +248,14 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
 
         Returns
         -------
-        features : ndarray of shape (n_videos, 12), float64
+        features : ndarray of shape (n_videos, n_features_out_), float64
         """
         check_is_fitted(self)
         X = check_video_sequence(X)
         roi = check_roi(self.roi)
         rows = Parallel(n_jobs=self.n_jobs, prefer="threads")(
             delayed(_profile)(X[i], self.max_side, self.noise_factor, roi, f"video {i}") for i in range(len(X)))
-        return np.vstack(rows)
+        return np.vstack(rows)[:, [FEATURE_NAMES.index(f) for f in self.features_]]
 
     def get_feature_names_out(self, input_features=None):
         """Names of the features.
@@ -253,7 +269,7 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         names : ndarray of str
         """
         check_is_fitted(self)
-        return np.array(_NAMES, dtype=object)
+        return np.array(self.features_, dtype=object)
 
     def __sklearn_tags__(self):
         return videos_tags(super().__sklearn_tags__())

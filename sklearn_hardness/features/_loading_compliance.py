@@ -13,6 +13,7 @@ from sklearn.utils.validation import check_is_fitted
 from ..utils._tags import force_position_tags
 from ..utils._validation import check_force_position
 from ..utils._warnings import external_stacklevel
+from ._common import check_feature_names
 
 __all__ = ["LoadingCompliance"]
 
@@ -138,16 +139,6 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
         self.min_loading_frames = min_loading_frames
         self.drive_compliance = drive_compliance
 
-    def _columns(self):
-        if isinstance(self.features, str):
-            return FEATURE_NAMES
-        features = tuple(self.features)
-        unknown = [f for f in features if f not in FEATURE_NAMES]
-        if unknown or not features:
-            raise ValueError(f"features must be 'all' or a non-empty sequence of {list(FEATURE_NAMES)}; "
-                             f"got unknown {unknown}." if unknown else "features must not be empty.")
-        return features
-
     @_fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
         """Check the parameters and the input (stateless otherwise).
@@ -162,7 +153,7 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
         -------
         self : LoadingCompliance
         """
-        self.features_ = self._columns()
+        self.features_ = check_feature_names(self.features, FEATURE_NAMES)
         check_force_position(X)
         self.n_features_out_ = len(self.features_)
         return self

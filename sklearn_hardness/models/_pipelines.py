@@ -328,7 +328,7 @@ def _logistic_head(params):
     return LaplaceLogisticRegression(**{"class_weight": "balanced", "max_iter": 2000, **params})
 
 
-def make_contact_profile_pipeline(*, head="logistic", max_side=80, roi=None, **classifier_params):
+def make_contact_profile_pipeline(*, head="logistic", features="all", max_side=80, roi=None, **classifier_params):
     """Videos -> :class:`~sklearn_hardness.features.ContactProfileFeatures` -> scaler -> classifier.
 
     The pipeline for objects the model has not seen: twelve features of the
@@ -366,6 +366,10 @@ def make_contact_profile_pipeline(*, head="logistic", max_side=80, roi=None, **c
         is a parameter to search over). Either way the pipeline has
         :meth:`~MCDropoutPipeline.predict_proba_samples` and drives active
         sampling.
+    features : "all" or sequence of str, default="all"
+        ``features`` of :class:`~sklearn_hardness.features.ContactProfileFeatures`:
+        which of its twelve features the head reads (a grid searches it as
+        ``features__features``).
     max_side : int, default=80
         ``max_side`` of :class:`~sklearn_hardness.features.ContactProfileFeatures`.
     roi : tuple (top, bottom, left, right) or None, default=None
@@ -419,7 +423,7 @@ def make_contact_profile_pipeline(*, head="logistic", max_side=80, roi=None, **c
         raise TypeError(f"head={head!r} ({heads[head].__name__}) takes no parameter(s) {unknown}{hint}.")
     classifier_params.setdefault("class_weight", "balanced")
     clf = _logistic_head(classifier_params) if head == "logistic" else heads[head](**classifier_params)
-    return MCDropoutPipeline([("features", ContactProfileFeatures(max_side=max_side, roi=roi)),
+    return MCDropoutPipeline([("features", ContactProfileFeatures(features=features, max_side=max_side, roi=roi)),
                               ("scale", StandardScaler()), ("clf", clf)])
 
 
