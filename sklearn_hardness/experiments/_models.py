@@ -53,7 +53,6 @@ PAPER_CHOICES = {
 }
 
 
-
 def input_name(model):
     """The named model whose input a model gets: its own if named, the ConvLSTM's for any estimator."""
     return model if isinstance(model, str) and model in FACTORIES else "convlstm"
