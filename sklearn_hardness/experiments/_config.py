@@ -30,6 +30,9 @@ from ._models import input_name as _input_name
 
 __all__ = ["PRESET_CONFIGS", "QUICK_OVERRIDES", "MODEL_NAMES", "get_config", "config_hash"]
 
+#: Named models that select no contact frames (no frame_size, color or crop_contact).
+_NO_FRAME_MODELS = _CONTACT_PROFILE_MODELS + _FORCE_POSITION_MODELS
+
 _COMMON = {
     "n_initial": 5,  # s0
     "n_per_query": 5,  # s
@@ -134,7 +137,7 @@ def get_config(preset="silicone5", *, quick=False, **overrides):
         raise ValueError(f"unknown preset {preset!r}; choose one of {sorted(PRESET_CONFIGS)}.")
     cfg = copy.deepcopy(PRESET_CONFIGS[preset])
     if quick:  # its frame size is the ConvLSTM's; models that select no frames keep None
-        no_frames = overrides.get("model") in _CONTACT_PROFILE_MODELS + _FORCE_POSITION_MODELS
+        no_frames = overrides.get("model") in _NO_FRAME_MODELS
         cfg.update({k: v for k, v in QUICK_OVERRIDES.items() if not (k == "frame_size" and no_frames)})
     unknown = sorted(set(overrides) - _KNOWN_KEYS)
     if unknown:
@@ -206,7 +209,7 @@ def check_config(cfg):
             f"dropout_placement={cfg['dropout_placement']!r} applies to the ConvLSTM only, but the model is "
             f"{cfg.get('model')!r}; leave it at 'head' or use model='convlstm'."
         )
-    if cfg.get("model") in _CONTACT_PROFILE_MODELS + _FORCE_POSITION_MODELS and any(
+    if cfg.get("model") in _NO_FRAME_MODELS and any(
             cfg.get(k) is not None for k in ("frame_size", "color", "crop_contact")):
         reads = ("ContactProfileFeatures read the whole video" if cfg["model"] in _CONTACT_PROFILE_MODELS
                  else "it reads each press's force and position, not its frames")
