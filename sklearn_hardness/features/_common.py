@@ -50,7 +50,7 @@ def to_uint8_grey(X, value_range):
     return out
 
 
-def check_feature_names(features, known, name="features"):
+def check_feature_names(features, known):
     """The output columns a ``features`` parameter names, as a tuple, checked against ``known``.
 
     ``"all"`` gives ``known`` in its order; a sequence gives its names in its
@@ -65,6 +65,6 @@ def check_feature_names(features, known, name="features"):
     if unknown or repeated or not features:
         problem = (f"got unknown {unknown}" if unknown else f"got {repeated} more than once" if repeated
                    else "got none")
-        raise ValueError(f"{name} must be 'all' or a non-empty sequence of distinct names from {list(known)}; "
+        raise ValueError(f"features must be 'all' or a non-empty sequence of distinct names from {list(known)}; "
                          f"{problem}.")
     return features
