@@ -117,7 +117,7 @@ def test_margin_interval_is_corrected_for_overlapping_training_sets(tiny):
         diff = result.fold_scores[row["pipeline"]] - result.fold_scores["peak_change"]
         t = stats.t.ppf(0.975, len(diff) - 1)
         half = t * np.sqrt(diff.var(ddof=1) * (1 / len(diff) + ratio))
-        assert row["vs_baseline_ci"] == pytest.approx((diff.mean() - half, diff.mean() + half))
+        assert row["vs_baseline_ci"] == pytest.approx((max(diff.mean() - half, -1), min(diff.mean() + half, 1)))
         plain = t * diff.std(ddof=1) / np.sqrt(len(diff))
         assert half > plain * 1.5  # 3 folds: sqrt(1 + 3 * 0.5) = 1.58
 
@@ -158,7 +158,9 @@ def test_repeated_folds_reuse_the_objects_in_other_assignments(tiny):
          (rows["dummy"]["vs_baseline"], rows["dummy"]["vs_baseline_ci"])),
     ]:
         half = t * np.sqrt(values.var(ddof=1) * (1 / 9 + ratio))
-        assert (m, lo, hi) == pytest.approx((values.mean(), values.mean() - half, values.mean() + half))
+        bound = 0 if values is result.fold_scores["dummy"] else -1  # clipped to the score's range
+        assert (m, lo, hi) == pytest.approx((values.mean(), max(values.mean() - half, bound),
+                                             min(values.mean() + half, 1)))
     assert "object-disjoint 3-fold CV x 3 repetitions, 12 objects" in format_evaluation(result)
     with pytest.raises(ValueError, match="n_repeats"):  # InvalidParameterError
         evaluate_pipelines(tiny, [], cv=3, n_repeats=0)
@@ -173,7 +175,57 @@ def test_accuracy_interval_is_corrected_too(tiny):
     for row in result.table:
         scores = result.fold_scores[row["pipeline"]]
         half = stats.t.ppf(0.975, 2) * np.sqrt(scores.var(ddof=1) * (1 / 3 + ratio))
-        assert row["balanced_accuracy_ci"] == pytest.approx((scores.mean() - half, scores.mean() + half))
+        assert row["balanced_accuracy_ci"] == pytest.approx((max(scores.mean() - half, 0),
+                                                             min(scores.mean() + half, 1)))
+
+
+class _KnowsTheLabelsButOneObject(_KnowsTheLabels):
+    """The oracle, wrong on every press of one object: perfect on all folds but one."""
+
+    def __init__(self, labels=None, wrong=None):
+        super().__init__(labels)
+        self.wrong = wrong
+
+    def predict(self, X):
+        pred = super().predict(X)
+        return np.array([(p + 1) % 3 if np.asarray(v).tobytes() in self.wrong else p for v, p in zip(X, pred)])
+
+
+def test_intervals_are_clipped_to_the_range_of_the_score(tiny):
+    # near a bound the symmetric t-interval reaches past it (a mean of 0.92 gave [0.79, 1.04] on the
+    # everyday preset); no value past it can be true, so the interval stops there
+    labels = {np.asarray(v).tobytes(): int(c) for v, c in zip(tiny.videos, tiny.target)}
+    first = tiny.object_id[0]
+    wrong = {np.asarray(v).tobytes() for v, o in zip(tiny.videos, tiny.object_id) if o == first}
+    result = evaluate_pipelines(tiny, {"almost": _KnowsTheLabelsButOneObject(labels, wrong)}, cv=4, verbose=0)
+    row = result.table[1]
+    scores = result.fold_scores["almost"]
+    assert (scores == 1).sum() == 3 and scores.min() < 1  # perfect on every fold but the one
+    half = stats.t.ppf(0.975, 3) * np.sqrt(scores.var(ddof=1) * (1 / 4 + 1 / 3))
+    assert scores.mean() + half > 1.1  # unclipped, the interval would reach well past 1
+    assert row["balanced_accuracy_ci"] == pytest.approx((scores.mean() - half, 1.0))
+    assert row["balanced_accuracy_ci"][1] == 1.0
+    assert f"{row['balanced_accuracy']:.2f} [{scores.mean() - half:.2f}, 1.00]" in format_evaluation(result)
+    for r in result.table:  # every interval within the range of its score
+        assert 0 <= r["balanced_accuracy_ci"][0] <= r["balanced_accuracy_ci"][1] <= 1
+        assert 0 <= r["mae_ci"][0]
+        if r["vs_baseline_ci"] is not None:
+            assert -1 <= r["vs_baseline_ci"][0] <= r["vs_baseline_ci"][1] <= 1
+
+
+def test_recall_per_class_says_which_ranks_a_pipeline_misses(tiny):
+    labels = {np.asarray(v).tobytes(): int(c) for v, c in zip(tiny.videos, tiny.target)}
+    pipes = {"dummy": DummyClassifier(strategy="constant", constant=1), "oracle": _KnowsTheLabels(labels)}
+    result = evaluate_pipelines(tiny, pipes, cv=3, verbose=0)
+    rows = {r["pipeline"]: r for r in result.table}
+    names = [str(n) for n in tiny.target_names]
+    assert rows["oracle"]["recall"] == dict.fromkeys(names, 1.0)
+    assert rows["dummy"]["recall"] == {n: float(c == 1) for c, n in enumerate(names)}  # only class 1 found
+    cm = result.confusion["peak_change"]
+    assert list(rows["peak_change"]["recall"].values()) == pytest.approx(np.diag(cm) / cm.sum(axis=1))
+    text = format_evaluation(result)
+    assert f"recall per class, out of fold ({' / '.join(names)}):" in text
+    assert "oracle" in text and "1.00 / 1.00 / 1.00" in text and "0.00 / 1.00 / 0.00" in text
 
 
 def test_failing_pipeline_is_reported_not_dropped(tiny):
@@ -543,3 +595,36 @@ def test_a_multi_axis_force_is_an_error_that_says_which_component_to_give(tiny):
     column = Bunch(**tiny)
     column.position = [z[:, None] for z in tiny.position]  # (T, 1) is one number per frame
     assert evaluate_pipelines(column, ["loading_compliance"], cv=3, verbose=0).table[1]["error"] is None
+
+
+def test_notes_say_once_what_the_folds_warnings_would_have_said(tiny):
+    # the folds fit with warnings silenced (each would repeat the same presses); the notes count them
+    from sklearn_hardness.features import LoadingCompliance
+    from sklearn_hardness.preprocessing import ContactFrameSelector
+
+    data = Bunch(**tiny)
+    data.videos = [v[:4] if i == 5 else v for i, v in enumerate(tiny.videos)]  # cut to 4 frames
+    data.force = [np.zeros_like(f) if i == 7 else f for i, f in enumerate(tiny.force)]  # never loaded
+    with pytest.warns(UserWarning, match="too short to detect contact"):
+        status = ContactFrameSelector().select(data.videos).status
+    assert status[5] == "too short"
+    frames = make_pipeline(ContactFrameSelector(), DummyClassifier())
+    result = evaluate_pipelines(data, {"frames": frames}, cv=3, verbose=0)
+    found = int(np.isin(status, ["contact", "weak contact"]).sum())
+    weak, short = int((status == "weak contact").sum()), int((status == "too short").sum())
+    assert result.notes[0].startswith(f"contact (frames): found on {found} of {len(status)} presses "
+                                      f"({weak} weak); ")
+    assert f"too short {short}: their frames are spread" in result.notes[0]
+    assert len(result.notes) == 1 and f"data: {result.notes[0]}" in format_evaluation(result)
+
+    result = evaluate_pipelines(data, ["loading_compliance"], cv=3, verbose=0)
+    rows = [np.column_stack([f, z]) for f, z in zip(data.force, data.position)]
+    with pytest.warns(UserWarning, match="their figures are NaN"):
+        missing = np.flatnonzero(np.isnan(LoadingCompliance().fit_transform(rows)).any(axis=1))
+    assert 7 in missing
+    assert result.notes == [f"loading phase (loading_compliance): found on {len(rows) - len(missing)} of "
+                            f"{len(rows)} presses; none on {len(missing)} (no positive force, or fewer than 3 "
+                            "frames from 0.1 of the peak force to the peak): their figures are NaN, for an "
+                            "imputer in the pipeline to fill"]
+    # pipelines without such steps have nothing to note
+    assert evaluate_pipelines(tiny, {"dummy": DummyClassifier()}, cv=3, verbose=0).notes == []

@@ -94,7 +94,7 @@ def _load_dataset(dataset, random_state):
     return load_press_videos(path)
 
 
-def _ci95(values, test_train_ratio, df):
+def _ci95(values, test_train_ratio, df, bounds=(-np.inf, np.inf)):
     """Mean over folds and its corrected 95% t-interval, non-finite folds left out.
 
     The variance of the mean is corrected for the folds' overlapping
@@ -107,7 +107,10 @@ def _ci95(values, test_train_ratio, df):
     freedom, or ``df`` when that is fewer (repeated folds: the folds of one
     repetition, see :func:`evaluate_pipelines`). Fewer than two finite
     values give no interval: ``(nan, nan)``, so that one fold cannot carry
-    a recommendation.
+    a recommendation. The interval is clipped to ``bounds``, the range the
+    score can take (``[0, 1]`` for a balanced accuracy): the t-interval is
+    symmetric and reaches past a bound when the folds' scores lie near it
+    (0.92 [0.79, 1.04] before clipping), and no value past it can be true.
     """
     values = np.asarray([v for v in values if v is not None and np.isfinite(v)], dtype=float)
     if len(values) < 2:
@@ -116,7 +119,8 @@ def _ci95(values, test_train_ratio, df):
     m = float(values.mean())
     t = stats.t.ppf(0.975, min(df, len(values) - 1))
     half = float(t * np.sqrt(values.var(ddof=1) * (1.0 / len(values) + test_train_ratio)))
-    return m, (m - half, m + half)
+    lo, hi = bounds
+    return m, (float(max(m - half, lo)), float(min(m + half, hi)))
 
 
 def _per_press_inputs(named, X, n_jobs, log):
@@ -125,12 +129,13 @@ def _per_press_inputs(named, X, n_jobs, log):
     Returns, per name, the input its folds get (the rows of those steps, or
     the videos), the estimator they fit (the remaining steps, or the whole
     pipeline) and the seconds of the one pass (counted in full for every
-    pipeline that uses its rows: what the pipeline would take alone).
+    pipeline that uses its rows: what the pipeline would take alone); and
+    the notes on the presses that the passes found (:func:`_contact_note`).
     Pipelines with the same leading steps share one pass. Where a pass
     fails (a video its steps cannot read), its pipelines run whole in every
     fold, where ``error_score`` decides.
     """
-    inputs, rests, seconds = {}, {}, {}
+    inputs, rests, seconds, notes = {}, {}, {}, []
     passes = {}
     for name, est in named.items():
         prefix, rest = split_per_press(est)
@@ -140,12 +145,56 @@ def _per_press_inputs(named, X, n_jobs, log):
     for prefix, users in passes.values():
         log.write(f"{describe(prefix)} of every press, once for all folds ({', '.join(name for name, _ in users)})")
         try:
-            Xt, once = transform_per_press(prefix, X, n_jobs=n_jobs)
+            Xt, once, status = transform_per_press(prefix, X, n_jobs=n_jobs)
         except Exception:  # noqa: BLE001 - the folds run the whole pipelines and report it
             continue
         for name, rest in users:
             inputs[name], rests[name], seconds[name] = Xt, rest, once
-    return inputs, rests, seconds
+        if status is not None:
+            notes.append(_contact_note(status, [name for name, _ in users]))
+            log.write(notes[-1])
+    return inputs, rests, seconds, notes
+
+
+def _contact_note(status, users):
+    """What the contact-frame selection of ``users`` found: one line of counts per status.
+
+    The folds fit with warnings silenced (each fold would repeat the
+    selector's warning about the same presses); this line says it once.
+    """
+    status = np.asarray(status)
+    n, count = len(status), {s: int(np.sum(status == s)) for s in ("contact", "weak contact", "no contact",
+                                                                   "too short")}
+    found = count["contact"] + count["weak contact"]
+    text = f"contact ({', '.join(users)}): found on {found} of {n} presses ({count['weak contact']} weak)"
+    missing = [f"{what} {count[what]}" for what in ("no contact", "too short") if count[what]]
+    if missing:
+        text += (f"; {', '.join(missing)}: their frames are spread from the first frame to the frame of "
+                 "largest change (`sklearn-hardness select` lists them)")
+    return text
+
+
+def _loading_phase_note(estimator, rows, name):
+    """On how many presses a :class:`~sklearn_hardness.features.LoadingCompliance` first step finds a loading phase.
+
+    None where that step fails on the presses (the folds report the error).
+    """
+    first = estimator.steps[0][1] if isinstance(estimator, Pipeline) else estimator
+    try:
+        # the class itself, not a subclass given in a dict: the folds alone fit the user's estimators
+        first = LoadingCompliance(**{k: v for k, v in first.get_params(deep=False).items()
+                                     if k in LoadingCompliance._get_param_names()})
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)  # counted here instead
+            missing = int(np.isnan(first.fit_transform(rows)).any(axis=1).sum())
+    except Exception:  # noqa: BLE001 - the folds meet the same error, where error_score decides
+        return None
+    text = f"loading phase ({name}): found on {len(rows) - missing} of {len(rows)} presses"
+    if missing:
+        text += (f"; none on {missing} (no positive force, or fewer than {first.min_loading_frames} frames from "
+                 f"{first.onset:g} of the peak force to the peak): their figures are NaN, for an imputer in the "
+                 "pipeline to fill")
+    return text
 
 
 def _fit_fold(name, estimator, X, y, train, test, hardness, error_score):
@@ -311,10 +360,14 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
             ``fit_predict_seconds`` (all fits, and the one pass of its
             per-press steps), ``n_folds`` (``cv``),
             ``n_repeats``, ``predict_proba_samples`` (whether the pipeline
-            has it, so active sampling can use it), ``error``. Every
+            has it, so active sampling can use it), ``recall`` (class name
+            -> recall over the out-of-fold predictions of all repetitions:
+            which ranks a pipeline misses), ``error``. Every
             interval is over the ``n_repeats * cv`` fold scores, its variance
             corrected for overlapping training sets:
-            ``var * (1 / (n_repeats * cv) + n_test / n_train)``.
+            ``var * (1 / (n_repeats * cv) + n_test / n_train)``, and is
+            clipped to the range the score can take (``[0, 1]``, margins
+            ``[-1, 1]``, MAE from 0).
         fold_scores : dict of name -> ndarray of shape (n_repeats * cv,)
             Balanced accuracy per fold, repetition after repetition.
         predictions : dict of name -> ndarray of shape (n_samples,)
@@ -332,6 +385,12 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         recommended_with_samples : str or None
             The same among pipelines with ``predict_proba_samples`` (the
             choice for active sampling).
+        notes : list of str
+            What the per-press steps found that the folds' silenced warnings
+            would have said: how many presses the contact-frame selection
+            of the nets found contact on (weak, none, too short), and how
+            many presses a force-and-position pipeline found no loading
+            phase in. Empty without such steps.
         target, target_names, groups, folds, n_repeats, chance
             The labels, class names, object of each press, the folds' test
             indices (``n_repeats * cv`` arrays, repetition after
@@ -402,10 +461,14 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
               f"{len(y)} presses of {len(np.unique(groups))} objects")
     reads_force = [name for name, est in named.items() if _takes_force_position(est)]
     force_position_rows = force_position(data, reads_force) if reads_force else None
-    inputs, rests, seconds_once = _per_press_inputs(
+    inputs, rests, seconds_once, notes = _per_press_inputs(
         {name: est for name, est in named.items() if name not in reads_force}, X, n_jobs, log)
     for name in reads_force:
         inputs[name], rests[name], seconds_once[name] = force_position_rows, named[name], 0.0
+        note = _loading_phase_note(named[name], force_position_rows, name)
+        if note is not None:
+            notes.append(note)
+            log.write(note)
     jobs = [(name, rests[name], k) for name in named for k in range(len(folds))]
     progress = ProgressLog(len(jobs), desc="evaluate", verbose=verbose, unit="fits")
     outs = [None] * len(jobs)
@@ -424,16 +487,20 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
             if o["pred"] is not None:
                 pred[k // cv, test] = o["pred"]
         scores = np.array([o.get("balanced_accuracy", error_score) for o in rows], dtype=float)
-        ba, ba_ci = _ci95(scores, test_train_ratio, cv - 1)
+        ba, ba_ci = _ci95(scores, test_train_ratio, cv - 1, bounds=(0.0, 1.0))
         maes = [o.get("mae") for o in rows]
-        mae, mae_ci = (None, None) if hardness is None else _ci95(maes, test_train_ratio, cv - 1)
+        mae, mae_ci = (None, None) if hardness is None else _ci95(maes, test_train_ratio, cv - 1,
+                                                                  bounds=(0.0, np.inf))
         fold_scores[name], predictions[name] = scores, pred[0]
         ok = pred >= 0
         confusion[name] = (confusion_matrix(np.broadcast_to(y, pred.shape)[ok], pred[ok],
                                             labels=np.arange(n_classes)) if ok.any()
                            else np.zeros((n_classes, n_classes), dtype=int))
+        support = confusion[name].sum(axis=1)
+        recall = {str(names[c]): (float(confusion[name][c, c] / support[c]) if support[c] else None)
+                  for c in range(n_classes)}
         table.append(dict(pipeline=name, balanced_accuracy=ba, balanced_accuracy_ci=ba_ci, mae=mae,
-                          mae_ci=mae_ci,
+                          mae_ci=mae_ci, recall=recall,
                           fit_predict_seconds=seconds_once[name] + float(sum(o["time"] for o in rows)),
                           n_folds=cv, n_repeats=n_repeats,
                           predict_proba_samples=hasattr(named[name], "predict_proba_samples"),
@@ -447,17 +514,21 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     return Bunch(table=table, fold_scores=fold_scores, predictions=predictions, confusion=confusion,
                  recommended=recommended, recommended_with_samples=with_samples,
                  target=y, target_names=names, groups=groups, folds=[test for _, test in folds],
-                 n_repeats=n_repeats, chance=1.0 / n_classes, hardness_unit=getattr(data, "hardness_unit", None))
+                 n_repeats=n_repeats, chance=1.0 / n_classes, hardness_unit=getattr(data, "hardness_unit", None),
+                 notes=notes)
 
 
 def _paired_difference(scores, base, test_train_ratio, df):
     """Mean over folds of ``scores - base`` (same folds) and its corrected 95% t-interval (:func:`_ci95`).
 
+    The interval is clipped to [-1, 1], the range of a difference of balanced accuracies.
+
     (None, None) without a base.
     """
     if base is None:
         return None, None
-    return _ci95(np.asarray(scores, dtype=float) - np.asarray(base, dtype=float), test_train_ratio, df)
+    return _ci95(np.asarray(scores, dtype=float) - np.asarray(base, dtype=float), test_train_ratio, df,
+                 bounds=(-1.0, 1.0))
 
 
 def _recommend(table):
@@ -482,14 +553,16 @@ def format_evaluation(result):
     text : str
         One line per pipeline: balanced accuracy with its 95% interval over
         folds, hardness MAE, time, and the margin over the one-number
-        baseline.
+        baseline; then each pipeline's recall per class, the notes on the
+        presses (``notes``: contact found, loading phases missing) and the
+        recommendation.
     """
     n_folds = result.table[0]["n_folds"] if result.table else 0
     n_repeats = getattr(result, "n_repeats", 1)
     repeats = f" x {n_repeats} repetitions" if n_repeats > 1 else ""
     lines = [f"object-disjoint {n_folds}-fold CV{repeats}, {len(np.unique(result.groups))} objects, "
              f"{len(result.target)} presses, chance {result.chance:.2f}; 95% t-intervals corrected for the "
-             "folds' overlapping training sets (Nadeau-Bengio)"]
+             "folds' overlapping training sets (Nadeau-Bengio), clipped to the score's range"]
     width = max([16] + [len(str(r["pipeline"])) for r in result.table])  # long names keep the columns
     lines.append(f"{'pipeline':<{width}} {'bal. accuracy [95% CI]':<24} {'MAE':>6} {'vs peak [95% CI]':>22} "
                  f"{'time s':>8}")
@@ -504,8 +577,23 @@ def format_evaluation(result):
                      f"{mae:>6} {delta:>22} {r['fit_predict_seconds']:>8.1f}")
         if r["error"]:
             lines.append(f"  error: {r['error']}")
+    lines += _recall_lines(result, width)
+    lines += [f"data: {note}" for note in getattr(result, "notes", ())]
     lines += _recommendation_lines(result)
     return "\n".join(lines)
+
+
+def _recall_lines(result, width):
+    """Recall of each class per pipeline, over the out-of-fold predictions (the confusion matrices' diagonals)."""
+    rows = [r for r in result.table if r.get("recall")]
+    if not rows:
+        return []
+    names = [str(n) for n in result.target_names]
+    lines = [f"recall per class, out of fold ({' / '.join(names)}):"]
+    for r in rows:
+        values = " / ".join("-" if r["recall"].get(n) is None else f"{r['recall'][n]:.2f}" for n in names)
+        lines.append(f"{r['pipeline']:<{width}} {values}")
+    return lines
 
 
 def _recommendation_lines(result):

@@ -81,9 +81,14 @@ def prefix_key(prefix):
 
 
 def _fit_transform_chunk(prefix, X, rows):
+    """The chunk's rows, and the contact status of each press where a step selects contact frames."""
+    fitted = clone(prefix)
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)  # as the folds ignore them (weak contacts, ...)
-        return clone(prefix).fit_transform(_safe_indexing(X, rows))
+        # as the folds ignore them (weak contacts, ...); the statuses returned say what they would
+        warnings.simplefilter("ignore", UserWarning)
+        Xt = fitted.fit_transform(_safe_indexing(X, rows))
+    selectors = [step for _, step in fitted.steps if isinstance(step, ContactFrameSelector)]
+    return Xt, (np.asarray(selectors[0].selection_.status, dtype=object) if selectors else None)
 
 
 def transform_per_press(prefix, X, n_jobs=None):
@@ -105,9 +110,16 @@ def transform_per_press(prefix, X, n_jobs=None):
         transform them.
     seconds : float
         Wall time of the pass.
+    contact_status : ndarray of shape (n_presses,) or None
+        Where ``prefix`` has a
+        :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`, the
+        ``status`` it gave each press (``"contact"``, ``"weak contact"``,
+        ``"no contact"``, ``"too short"``); None otherwise.
     """
     t0 = time.perf_counter()
     n_chunks = max(1, min(len(X), joblib.effective_n_jobs(n_jobs)))
     chunks = [rows for rows in np.array_split(np.arange(len(X)), n_chunks) if len(rows)]
     parts = Parallel(n_jobs=n_jobs)(delayed(_fit_transform_chunk)(prefix, X, rows) for rows in chunks)
-    return np.concatenate(parts), time.perf_counter() - t0
+    statuses = [status for _, status in parts]
+    status = None if statuses[0] is None else np.concatenate(statuses)
+    return np.concatenate([Xt for Xt, _ in parts]), time.perf_counter() - t0, status
