@@ -279,6 +279,23 @@ def test_video_checks(name, factory, data, check):
     check(name, factory(), *data())
 
 
+#: Configurations other than the default whose output and fitted attributes differ from it: a choice of
+#: features, in another order than the default's (``features_``, ``get_feature_names_out`` follow it).
+FEATURE_SUBSETS = {
+    "ContactProfileFeatures(features=2)": (
+        lambda: ContactProfileFeatures(features=("log_loading_time", "log_peak_change")), "videos"),
+    "LoadingCompliance(features=2)": (
+        lambda: LoadingCompliance(features=("travel", "hertz_compliance")), "force_position"),
+}
+
+
+@parametrize_with_video_checks(
+    {name: (factory, lambda kind=kind: _DATA[kind]()) for name, (factory, kind) in FEATURE_SUBSETS.items()}
+)
+def test_video_checks_on_a_choice_of_features(name, factory, data, check):
+    check(name, factory(), *data())
+
+
 def test_tags_match_the_input_table():
     """The ESTIMATORS table's input kinds and the estimators' own tags agree."""
     for name, (factory, kind) in ESTIMATORS.items():
