@@ -616,6 +616,12 @@ def test_notes_say_once_what_the_folds_warnings_would_have_said(tiny):
                                       f"({weak} weak); ")
     assert f"too short {short}: their frames are spread" in result.notes[0]
     assert len(result.notes) == 1 and f"data: {result.notes[0]}" in format_evaluation(result)
+    # selections that agree on every press give one line naming their pipelines; others their own
+    pipes = {"frames": frames, "more_frames": make_pipeline(ContactFrameSelector(n_between=3), DummyClassifier()),
+             "blind": make_pipeline(ContactFrameSelector(threshold=1e6), DummyClassifier())}
+    notes = evaluate_pipelines(data, pipes, cv=3, verbose=0).notes
+    assert len(notes) == 2 and notes[0].startswith("contact (frames, more_frames): found on")
+    assert notes[1].startswith(f"contact (blind): found on 0 of {len(status)} presses (0 weak); no contact")
 
     result = evaluate_pipelines(data, ["loading_compliance"], cv=3, verbose=0)
     rows = [np.column_stack([f, z]) for f, z in zip(data.force, data.position)]

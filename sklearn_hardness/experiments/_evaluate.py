@@ -130,12 +130,13 @@ def _per_press_inputs(named, X, n_jobs, log):
     the videos), the estimator they fit (the remaining steps, or the whole
     pipeline) and the seconds of the one pass (counted in full for every
     pipeline that uses its rows: what the pipeline would take alone); and
-    the notes on the presses that the passes found (:func:`_contact_note`).
+    the notes on the presses that the passes found (:func:`_contact_note`;
+    one for the pipelines whose frame selections agree on every press).
     Pipelines with the same leading steps share one pass. Where a pass
     fails (a video its steps cannot read), its pipelines run whole in every
     fold, where ``error_score`` decides.
     """
-    inputs, rests, seconds, notes = {}, {}, {}, []
+    inputs, rests, seconds, statuses = {}, {}, {}, []
     passes = {}
     for name, est in named.items():
         prefix, rest = split_per_press(est)
@@ -151,8 +152,14 @@ def _per_press_inputs(named, X, n_jobs, log):
         for name, rest in users:
             inputs[name], rests[name], seconds[name] = Xt, rest, once
         if status is not None:
-            notes.append(_contact_note(status, [name for name, _ in users]))
-            log.write(notes[-1])
+            same = next((names for seen, names in statuses if np.array_equal(seen, status)), None)
+            if same is None:
+                statuses.append((status, [name for name, _ in users]))
+            else:  # another selection that found the same on every press: one line for both
+                same += [name for name, _ in users]
+    notes = [_contact_note(status, names) for status, names in statuses]
+    for note in notes:
+        log.write(note)
     return inputs, rests, seconds, notes
 
 
