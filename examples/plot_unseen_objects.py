@@ -47,7 +47,8 @@ print(format_evaluation(result))
 # fold. ``recommended`` is None when no margin's interval lies above 0: then
 # the one number does as well within what five folds of these objects can
 # tell, and more objects, not more repetitions, would narrow the intervals.
-# The confusion matrices show which ranks are mixed up.
+# Below the table, each pipeline's recall per class says which ranks it
+# misses; the confusion matrices show where those presses went.
 fig = plot_confusion_matrices(result)
 plt.show()
 
