@@ -31,6 +31,7 @@ from ..datasets import load_press_videos, make_presses
 from ..datasets._sim_presets import PRESETS
 from ..features import LoadingCompliance
 from ..metrics import hardness_mae
+from ..preprocessing._contact_curve import _STATUSES
 from ..utils._random import int_seed
 from ..utils._validation import check_roi
 from ._force_position import force_position, presses_lacking_force_position
@@ -94,7 +95,7 @@ def _load_dataset(dataset, random_state):
     return load_press_videos(path)
 
 
-def _ci95(values, test_train_ratio, df, bounds=(-np.inf, np.inf)):
+def _ci95(values, test_train_ratio, df, *, bounds):
     """Mean over folds and its corrected 95% t-interval, non-finite folds left out.
 
     The variance of the mean is corrected for the folds' overlapping
@@ -170,8 +171,7 @@ def _contact_note(status, users):
     selector's warning about the same presses); this line says it once.
     """
     status = np.asarray(status)
-    n, count = len(status), {s: int(np.sum(status == s)) for s in ("contact", "weak contact", "no contact",
-                                                                   "too short")}
+    n, count = len(status), {s: int(np.sum(status == s)) for s in _STATUSES}
     found = count["contact"] + count["weak contact"]
     text = f"contact ({', '.join(users)}): found on {found} of {n} presses ({count['weak contact']} weak)"
     missing = [f"{what} {count[what]}" for what in ("no contact", "too short") if count[what]]
