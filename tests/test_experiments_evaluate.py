@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 from scipy import stats
-from sklearn.base import BaseEstimator, ClassifierMixin
+from sklearn.base import BaseEstimator, ClassifierMixin, clone
 from sklearn.dummy import DummyClassifier
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import FunctionTransformer
@@ -634,3 +634,44 @@ def test_notes_say_once_what_the_folds_warnings_would_have_said(tiny):
                             "imputer in the pipeline to fill"]
     # pipelines without such steps have nothing to note
     assert evaluate_pipelines(tiny, {"dummy": DummyClassifier()}, cv=3, verbose=0).notes == []
+
+
+def test_flow_note_counts_the_corners_and_lost_tracks_of_every_press(tiny):
+    # OpticalFlowFeatures' warnings (few corners, lost tracks) are silenced in the folds too; a blank
+    # press has no corner at all, and its row is that of a press without motion
+    import warnings
+
+    from sklearn_hardness.experiments._per_press import split_per_press, transform_per_press
+    from sklearn_hardness.features import OpticalFlowFeatures
+    from sklearn_hardness.preprocessing import ContactFrameSelector
+
+    data = Bunch(**tiny)
+    data.videos = [np.full_like(v, 128) if i == 3 else v for i, v in enumerate(tiny.videos)]
+    flow = make_pipeline(ContactFrameSelector(frame_size=(32, 40)), OpticalFlowFeatures(n_features=30),
+                         DummyClassifier())
+    prefix, _ = split_per_press(flow)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        frames = prefix[0].fit_transform(data.videos)
+        tracks = OpticalFlowFeatures(n_features=30).fit(frames).track(frames)
+        expected = prefix.fit_transform(data.videos)
+    corners = tracks.n_corners
+    lost = np.sum(tracks.valid[:, :, 0] & ~tracks.valid[:, :, -1], axis=1)
+    assert corners[3] == 0 and corners.max() > 0 and lost.sum() > 0
+    # the pass gives the pipeline's rows, and what the flow found on each press, in press order
+    Xt, _, found = transform_per_press(prefix, data.videos, n_jobs=2)
+    np.testing.assert_array_equal(Xt, expected)
+    np.testing.assert_array_equal(found["flow_corners"], corners)
+    np.testing.assert_array_equal(found["flow_tracks_lost"], lost)
+    assert set(found) == {"contact_status", "flow_corners", "flow_tracks_lost"}
+
+    # another pass whose tracks are the same (fill_lost changes the rows, not the tracks) shares the line
+    same_tracks = clone(flow).set_params(opticalflowfeatures__fill_lost="last")
+    result = evaluate_pipelines(data, {"flow": flow, "same_flow": same_tracks}, cv=3, verbose=0)
+    n = len(corners)
+    assert result.notes[1] == (
+        f"optical flow (flow, same_flow): corners in a press's first frame {int(np.median(corners))} (median; "
+        f"fewest 0, most {corners.max()}, at most n_features=30); none on {(corners == 0).sum()} of {n} presses: their rows are "
+        f"those of a press without motion; {lost.sum() / corners.sum():.0%} of the tracks lost before the "
+        f"last frame (on {(lost > 0).sum()} of {n} presses)")
+    assert len(result.notes) == 2 and f"data: {result.notes[1]}" in format_evaluation(result)

@@ -29,7 +29,7 @@ from .._experiment_names import DEFAULT_PIPELINES, PIPELINE_NAMES
 from .. import models
 from ..datasets import load_press_videos, make_presses
 from ..datasets._sim_presets import PRESETS
-from ..features import LoadingCompliance
+from ..features import LoadingCompliance, OpticalFlowFeatures
 from ..metrics import hardness_mae
 from ..preprocessing._contact_curve import _STATUSES
 from ..utils._random import int_seed
@@ -131,37 +131,49 @@ def _per_press_inputs(named, X, n_jobs, log):
     the videos), the estimator they fit (the remaining steps, or the whole
     pipeline) and the seconds of the one pass (counted in full for every
     pipeline that uses its rows: what the pipeline would take alone); and
-    the notes on the presses that the passes found (:func:`_contact_note`;
-    one for the pipelines whose frame selections agree on every press).
+    the notes on the presses that the passes found (:func:`_contact_note`,
+    :func:`_flow_note`; one for the pipelines whose steps found the same on
+    every press).
     Pipelines with the same leading steps share one pass. Where a pass
     fails (a video its steps cannot read), its pipelines run whole in every
     fold, where ``error_score`` decides.
     """
-    inputs, rests, seconds, statuses = {}, {}, {}, []
+    inputs, rests, seconds = {}, {}, {}
     passes = {}
     for name, est in named.items():
         prefix, rest = split_per_press(est)
         inputs[name], rests[name], seconds[name] = X, est, 0.0
         if prefix is not None:
             passes.setdefault(prefix_key(prefix), (prefix, []))[1].append((name, rest))
+    contacts, flows = [], []  # (what a pass found on every press, the pipelines whose pass found it)
     for prefix, users in passes.values():
         log.write(f"{describe(prefix)} of every press, once for all folds ({', '.join(name for name, _ in users)})")
         try:
-            Xt, once, status = transform_per_press(prefix, X, n_jobs=n_jobs)
+            Xt, once, found = transform_per_press(prefix, X, n_jobs=n_jobs)
         except Exception:  # noqa: BLE001 - the folds run the whole pipelines and report it
             continue
         for name, rest in users:
             inputs[name], rests[name], seconds[name] = Xt, rest, once
-        if status is not None:
-            same = next((names for seen, names in statuses if np.array_equal(seen, status)), None)
-            if same is None:
-                statuses.append((status, [name for name, _ in users]))
-            else:  # another selection that found the same on every press: one line for both
-                same += [name for name, _ in users]
-    notes = [_contact_note(status, names) for status, names in statuses]
+        names = [name for name, _ in users]
+        if "contact_status" in found:
+            _merge(contacts, (found["contact_status"],), names)
+        if "flow_corners" in found:
+            flow = next(step for _, step in prefix.steps if isinstance(step, OpticalFlowFeatures))
+            _merge(flows, (found["flow_corners"], found["flow_tracks_lost"], int(flow.n_features)), names)
+    notes = ([_contact_note(status, names) for (status,), names in contacts]
+             + [_flow_note(*found, names) for found, names in flows])
     for note in notes:
         log.write(note)
     return inputs, rests, seconds, notes
+
+
+def _merge(seen, found, names):
+    """Add ``names`` to the entry of ``seen`` that found the same on every press, or a new entry."""
+    for other, users in seen:
+        if all(np.array_equal(a, b) for a, b in zip(other, found)):
+            users += names
+            return
+    seen.append((found, list(names)))
 
 
 def _contact_note(status, users):
@@ -178,6 +190,24 @@ def _contact_note(status, users):
     if missing:
         text += (f"; {', '.join(missing)}: their frames are spread from the first frame to the frame of "
                  "largest change (`sklearn-hardness select` lists them)")
+    return text
+
+
+def _flow_note(corners, lost, n_features, users):
+    """What the optical flow of ``users`` found: corners per press, presses without any, tracks lost.
+
+    The folds fit with :class:`~sklearn_hardness.features.OpticalFlowFeatures`'
+    warnings silenced (each fold would repeat them); this line says it once.
+    """
+    corners, lost = np.asarray(corners), np.asarray(lost)
+    text = (f"optical flow ({', '.join(users)}): corners in a press's first frame {int(np.median(corners))} "
+            f"(median; fewest {int(corners.min())}, most {int(corners.max())}, at most n_features={n_features})")
+    none = int(np.sum(corners == 0))
+    if none:
+        text += f"; none on {none} of {len(corners)} presses: their rows are those of a press without motion"
+    if corners.sum():
+        text += (f"; {lost.sum() / corners.sum():.0%} of the tracks lost before the last frame "
+                 f"(on {int(np.sum(lost > 0))} of {len(corners)} presses)")
     return text
 
 
@@ -395,9 +425,10 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         notes : list of str
             What the per-press steps found that the folds' silenced warnings
             would have said: how many presses the contact-frame selection
-            of the nets found contact on (weak, none, too short), and how
-            many presses a force-and-position pipeline found no loading
-            phase in. Empty without such steps.
+            of the nets found contact on (weak, none, too short), how many
+            corners the optical flow found per press and how many of their
+            tracks it lost, and how many presses a force-and-position
+            pipeline found no loading phase in. Empty without such steps.
         target, target_names, groups, folds, n_repeats, chance
             The labels, class names, object of each press, the folds' test
             indices (``n_repeats * cv`` arrays, repetition after
@@ -561,8 +592,8 @@ def format_evaluation(result):
         One line per pipeline: balanced accuracy with its 95% interval over
         folds, hardness MAE, time, and the margin over the one-number
         baseline; then each pipeline's recall per class, the notes on the
-        presses (``notes``: contact found, loading phases missing) and the
-        recommendation.
+        presses (``notes``: contact found, the optical flow's corners,
+        loading phases missing) and the recommendation.
     """
     n_folds = result.table[0]["n_folds"] if result.table else 0
     n_repeats = getattr(result, "n_repeats", 1)

@@ -81,14 +81,25 @@ def prefix_key(prefix):
 
 
 def _fit_transform_chunk(prefix, X, rows):
-    """The chunk's rows, and the contact status of each press where a step selects contact frames."""
+    """The chunk's rows, and what its steps found on each press (see :func:`transform_per_press`)."""
     fitted = clone(prefix)
+    found = {}
+    Xt = _safe_indexing(X, rows)
     with warnings.catch_warnings():
-        # as the folds ignore them (weak contacts, ...); the statuses returned say what they would
+        # as the folds ignore them (weak contacts, lost tracks, ...); ``found`` says what they would
         warnings.simplefilter("ignore", UserWarning)
-        Xt = fitted.fit_transform(_safe_indexing(X, rows))
-    selectors = [step for _, step in fitted.steps if isinstance(step, ContactFrameSelector)]
-    return Xt, (np.asarray(selectors[0].selection_.status, dtype=object) if selectors else None)
+        for _, step in fitted.steps:  # as Pipeline.fit_transform, keeping the flow's tracks
+            if type(step) is OpticalFlowFeatures:
+                tracks = step.fit(Xt).track(Xt)
+                Xt = step._rows_of(tracks)
+                lost = np.sum(tracks.valid[:, :, 0] & ~tracks.valid[:, :, -1], axis=1)
+                found.setdefault("flow_corners", np.asarray(tracks.n_corners))
+                found.setdefault("flow_tracks_lost", lost)
+                continue
+            Xt = step.fit_transform(Xt)
+            if isinstance(step, ContactFrameSelector):
+                found.setdefault("contact_status", np.asarray(step.selection_.status, dtype=object))
+    return Xt, found
 
 
 def transform_per_press(prefix, X, n_jobs=None):
@@ -110,16 +121,20 @@ def transform_per_press(prefix, X, n_jobs=None):
         transform them.
     seconds : float
         Wall time of the pass.
-    contact_status : ndarray of shape (n_presses,) or None
-        Where ``prefix`` has a
-        :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`, the
-        ``status`` it gave each press (``"contact"``, ``"weak contact"``,
-        ``"no contact"``, ``"too short"``); None otherwise.
+    found : dict of str to ndarray of shape (n_presses,)
+        What the first step of each kind found on every press, for the
+        warnings the pass silences: ``"contact_status"`` where ``prefix`` has
+        a :class:`~sklearn_hardness.preprocessing.ContactFrameSelector` (the
+        ``status`` it gave each press: ``"contact"``, ``"weak contact"``,
+        ``"no contact"``, ``"too short"``); ``"flow_corners"`` and
+        ``"flow_tracks_lost"`` where it has
+        :class:`~sklearn_hardness.features.OpticalFlowFeatures` (the corners
+        found in each press's first frame, and how many of their tracks were
+        lost before its last frame). Empty where it has neither.
     """
     t0 = time.perf_counter()
     n_chunks = max(1, min(len(X), joblib.effective_n_jobs(n_jobs)))
     chunks = [rows for rows in np.array_split(np.arange(len(X)), n_chunks) if len(rows)]
     parts = Parallel(n_jobs=n_jobs)(delayed(_fit_transform_chunk)(prefix, X, rows) for rows in chunks)
-    statuses = [status for _, status in parts]
-    status = None if statuses[0] is None else np.concatenate(statuses)
-    return np.concatenate([Xt for Xt, _ in parts]), time.perf_counter() - t0, status
+    found = {key: np.concatenate([part[key] for _, part in parts]) for key in parts[0][1]}
+    return np.concatenate([Xt for Xt, _ in parts]), time.perf_counter() - t0, found

@@ -321,7 +321,10 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
             If some samples have fewer corners than ``n_features`` (padded
             with zeros) or tracks were lost.
         """
-        tr = self.track(X)
+        return self._rows_of(self.track(X))
+
+    def _rows_of(self, tr):
+        """:meth:`transform`'s rows from :meth:`track`'s result ``tr`` (warns as it does)."""
         n, m, k = tr.valid.shape
         points, valid = tr.points, tr.valid
         # Displacement relative to the first frame, zeros where not valid.
