@@ -14,7 +14,8 @@ video under the default ``ContactFrameSelector``.
 
     python benchmarks/bench_sim_to_real.py --data .../example_data
         [--pipelines peak_change contact_profile contact_profile_nn convlstm ofnn] [--roi] [--seed 0]
-        [--sim-seeds 0] [--cache DIR] [--variant NAME] [--param NAME=VALUE ...] [--feature-subsets]
+        [--sim-seeds 0] [--each-seed] [--cache DIR] [--variant NAME] [--param NAME=VALUE ...]
+        [--feature-subsets] [--out FILE]
 
 The simulated videos are kept every 2nd pixel (120x160) in memory, the real
 ones cropped (``--roi``: to the gel, ``GEL_ROI``) and kept every 2nd pixel
@@ -25,7 +26,11 @@ curve and ``ContactProfileFeatures`` the same pixel grid as full resolution.
 ``--param`` overrides an ``everyday`` parameter (as in ``bench_sim_vs_real_stats``);
 ``--feature-subsets`` adds which ``ContactProfileFeatures`` carry over, alone and
 combined (balanced logistic regression on subsets, beside their object-disjoint
-score on the preset).
+score on the preset). ``--each-seed`` trains on each of ``--sim-seeds`` alone
+instead of on their pooled presses and ends with the pairs ordered right per
+training seed: one simulated set is one draw of objects, and the order of the
+real objects can move with it. ``--out FILE`` also writes the printed text there
+after a provenance line (``docs/_output``).
 Time and peak memory are printed beside the figures.
 """
 
@@ -38,6 +43,7 @@ import numpy as np
 
 from _estimate_modulus import FAMILIES, GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
 from _memory import peak_rss_mb, reset_peak
+from _output import write_output
 from _sim_variants import VARIANTS, variant_params
 from bench_sim_vs_real_stats import parse_param
 
@@ -84,7 +90,7 @@ SUBSETS = [None, "-concentration", "log_peak_change", "peak_over_precontact", "r
            "log_peak_change log_loading_time log_contact_spread"]
 
 
-def feature_subsets(videos, target, groups, real, hardness):
+def feature_subsets(videos, target, groups, real, hardness, say=print):
     """ContactProfileFeatures + balanced logistic regression on subsets of the features.
 
     Per subset: the within-family pairs of the real grasps ordered right when
@@ -102,7 +108,7 @@ def feature_subsets(videos, target, groups, real, hardness):
     cp = ContactProfileFeatures().fit(videos)
     sim, rl = cp.transform(videos), cp.transform(real.videos)
     names = list(cp.get_feature_names_out())
-    print("\n| ContactProfileFeatures used | pairs right (of 9) | everyday object-disjoint bal. acc. |\n|---|---|---|")
+    say("\n| ContactProfileFeatures used | pairs right (of 9) | everyday object-disjoint bal. acc. |\n|---|---|---|")
     for subset in SUBSETS:
         if subset is None:
             cols = list(range(len(names)))
@@ -117,7 +123,7 @@ def feature_subsets(videos, target, groups, real, hardness):
         fams = family_pairs(real.object_name, expected_rank(est.predict_proba(rl[:, cols]), est.classes_,
                                                             hardness))
         right = sum(r for r, _, _ in fams.values())
-        print(f"| {subset or 'all'} | {right} | {balanced_accuracy_score(target, pred):.2f} |", flush=True)
+        say(f"| {subset or 'all'} | {right} | {balanced_accuracy_score(target, pred):.2f} |")
 
 
 def main():
@@ -128,7 +134,10 @@ def main():
     parser.add_argument("--seed", type=int, default=0, help="seed of the nets")
     parser.add_argument("--sim-seeds", type=int, nargs="+", default=[0],
                         help="simulated training sets (their presses are pooled)")
+    parser.add_argument("--each-seed", action="store_true",
+                        help="train on each of --sim-seeds alone (not pooled); end with the pairs right per seed")
     parser.add_argument("--cache", default=None, help="folder to keep the rendered simulated set in")
+    parser.add_argument("--out", default=None, help="also write the printed text there, after a provenance line")
     parser.add_argument("--feature-subsets", action="store_true",
                         help="also: which ContactProfileFeatures carry over, alone and combined")
     parser.add_argument("--variant", default=None, choices=list(VARIANTS), help="a named variant (_sim_variants.py)")
@@ -139,50 +148,69 @@ def main():
 
     from sklearn_hardness.preprocessing import ContactFrameSelector
 
-    reset_peak()
-    t0 = time.perf_counter()
-    videos, target, groups = [], [], []
-    for s in args.sim_seeds:
-        v, y, hardness, names, obj = simulated(s, cache=args.cache, **params)
-        videos += v
-        target.append(y)
-        groups += [f"{s}-{o}" for o in obj]
-    target = np.concatenate(target)
-    print(f"simulated everyday{' ' + str(params) if params else ''}, seeds "
-          f"{args.sim_seeds}: {len(videos)} presses "
-          f"({dict(Counter(names[target].tolist()))}), {time.perf_counter() - t0:.1f} s, "
-          f"peak RSS {peak_rss_mb():.0f} MB")
+    out = []
 
+    def say(text=""):
+        print(text, flush=True)
+        out.append(text)
+
+    t0 = time.perf_counter()
     real = load_estimate_modulus(args.data, roi=GEL_ROI if args.roi else None, stride=2)
     sel = ContactFrameSelector().fit([real.videos[i] for i in range(len(real.videos))])
     status = Counter(sel.selection_.status.tolist())
-    print(f"real grasps: {len(real.videos)} videos of {len(set(real.object_name))} objects, "
-          f"{'gel ROI ' + str(GEL_ROI) if args.roi else 'full frame'}; contact status: {dict(status)}")
+    say(f"real grasps: {len(real.videos)} videos of {len(set(real.object_name))} objects, "
+        f"{'gel ROI ' + str(GEL_ROI) if args.roi else 'full frame'}; contact status: {dict(status)}")
     for obj in dict.fromkeys(real.object_name.tolist()):
         st = sel.selection_.status[real.object_name == obj]
         if (st != "contact").any():
-            print(f"  {obj}: {', '.join(st.tolist())}")
+            say(f"  {obj}: {', '.join(st.tolist())}")
 
+    trainings = [[s] for s in args.sim_seeds] if args.each_seed else [args.sim_seeds]
     members = [m for fam in FAMILIES.values() for m in fam]
-    lines = ["", "| pipeline | balls | foam bricks | all 9 pairs | expected rank per object "
-             f"({', '.join(members)}) | fit + predict s | peak RSS MB |", "|---|---|---|---|---|---|---|"]
-    for name in args.pipelines:
+    right_per_training = {name: [] for name in args.pipelines}
+    for seeds in trainings:
         reset_peak()
         t1 = time.perf_counter()
-        est = named_pipeline(name, args.seed).fit(videos, target)
-        scores, fams = order_report(name, est, real, hardness)
-        seconds = time.perf_counter() - t1
-        right = sum(r for r, _, _ in fams.values())
-        total = sum(n for _, n, _ in fams.values())
-        ranks = ", ".join(f"{fams[f][2][m]:.2f}" for f in FAMILIES for m in FAMILIES[f] if m in fams[f][2])
-        lines.append(f"| {name} | {fams['balls'][0]}/{fams['balls'][1]} | "
-                     f"{fams['foam bricks'][0]}/{fams['foam bricks'][1]} | {right}/{total} | {ranks} | "
-                     f"{seconds:.0f} | {peak_rss_mb():.0f} |")
-        print(lines[-1], flush=True)
-    print("\n".join(lines))
-    if args.feature_subsets:
-        feature_subsets(videos, target, np.asarray(groups), real, hardness)
-    print(f"\ntotal {time.perf_counter() - t0:.0f} s (shared, loaded 2-core machine)")
+        videos, target, groups = [], [], []
+        for s in seeds:
+            v, y, hardness, names, obj = simulated(s, cache=args.cache, **params)
+            videos += v
+            target.append(y)
+            groups += [f"{s}-{o}" for o in obj]
+        target = np.concatenate(target)
+        say(f"\nsimulated everyday{' ' + str(params) if params else ''}, seeds "
+            f"{seeds}: {len(videos)} presses "
+            f"({dict(Counter(names[target].tolist()))}), {time.perf_counter() - t1:.1f} s, "
+            f"peak RSS {peak_rss_mb():.0f} MB")
+        say(f"\n| pipeline | balls | foam bricks | all 9 pairs | expected rank per object "
+            f"({', '.join(members)}) | fit + predict s | peak RSS MB |")
+        say("|---|---|---|---|---|---|---|")
+        for name in args.pipelines:
+            reset_peak()
+            t1 = time.perf_counter()
+            est = named_pipeline(name, args.seed).fit(videos, target)
+            scores, fams = order_report(name, est, real, hardness)
+            seconds = time.perf_counter() - t1
+            right = sum(r for r, _, _ in fams.values())
+            total = sum(n for _, n, _ in fams.values())
+            right_per_training[name].append(right)
+            ranks = ", ".join(f"{fams[f][2][m]:.2f}" for f in FAMILIES for m in FAMILIES[f] if m in fams[f][2])
+            say(f"| {name} | {fams['balls'][0]}/{fams['balls'][1]} | "
+                f"{fams['foam bricks'][0]}/{fams['foam bricks'][1]} | {right}/{total} | {ranks} | "
+                f"{seconds:.0f} | {peak_rss_mb():.0f} |")
+        if args.feature_subsets:
+            feature_subsets(videos, target, np.asarray(groups), real, hardness, say)
+    if args.each_seed:
+        say(f"\nWithin-family pairs ordered right (of 9), trained on each simulated set alone "
+            f"({'gel ROI' if args.roi else 'full frame'})")
+        say("\n| pipeline | " + " | ".join(f"seed {s}" for s in args.sim_seeds) + " | mean | sets with 9/9 |")
+        say("|---|" + "---|" * (len(args.sim_seeds) + 2))
+        for name, rights in right_per_training.items():
+            say(f"| {name} | " + " | ".join(f"{r}/9" for r in rights)
+                + f" | {np.mean(rights):.1f} | {sum(r == 9 for r in rights)} of {len(rights)} |")
+    say(f"\ntotal {time.perf_counter() - t0:.0f} s")
+    if args.out:
+        write_output(args.out, "\n".join(out))
 
 
 if __name__ == "__main__":
