@@ -212,8 +212,7 @@ def bench_k(K, args, device, ConvLSTMNet, StackedConvLSTMNet):
         _reset_memory(device)
         t = time_steps(step, device, args.steps, args.repeat)
         out[name] = (t, flops, _peak_mb(device))
-    del nets, opts, stacked, s_opt
-    return out
+    return out  # the nets and optimisers go with this call's frame (the step closures hold them until then)
 
 
 def bench_ensemble(args):
