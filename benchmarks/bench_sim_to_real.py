@@ -201,13 +201,15 @@ def main():
         if args.feature_subsets:
             feature_subsets(videos, target, np.asarray(groups), real, hardness, say)
     if args.each_seed:
-        say(f"\nWithin-family pairs ordered right (of 9), trained on each simulated set alone "
+        # total: the pairs of the families present in --data (9 with the whole example_data)
+        say(f"\nWithin-family pairs ordered right (of {total}), trained on each simulated set alone "
             f"({'gel ROI' if args.roi else 'full frame'})")
-        say("\n| pipeline | " + " | ".join(f"seed {s}" for s in args.sim_seeds) + " | mean | sets with 9/9 |")
+        say("\n| pipeline | " + " | ".join(f"seed {s}" for s in args.sim_seeds)
+            + f" | mean | sets with {total}/{total} |")
         say("|---|" + "---|" * (len(args.sim_seeds) + 2))
         for name, rights in right_per_training.items():
-            say(f"| {name} | " + " | ".join(f"{r}/9" for r in rights)
-                + f" | {np.mean(rights):.1f} | {sum(r == 9 for r in rights)} of {len(rights)} |")
+            say(f"| {name} | " + " | ".join(f"{r}/{total}" for r in rights)
+                + f" | {np.mean(rights):.1f} | {sum(r == total for r in rights)} of {len(rights)} |")
     say(f"\ntotal {time.perf_counter() - t0:.0f} s")
     if args.out:
         write_output(args.out, "\n".join(out))
