@@ -671,7 +671,7 @@ def test_flow_note_counts_the_corners_and_lost_tracks_of_every_press(tiny):
     n = len(corners)
     assert result.notes[1] == (
         f"optical flow (flow, same_flow): corners in a press's first frame {int(np.median(corners))} (median; "
-        f"fewest 0, most {corners.max()}, at most n_features=30); none on {(corners == 0).sum()} of {n} presses: their rows are "
-        f"those of a press without motion; {lost.sum() / corners.sum():.0%} of the tracks lost before the "
-        f"last frame (on {(lost > 0).sum()} of {n} presses)")
+        f"fewest 0, most {corners.max()}, at most n_features=30); none on {(corners == 0).sum()} of {n} presses: "
+        f"their rows are those of a press without motion; {lost.sum() / corners.sum():.0%} of the tracks lost "
+        f"before the last frame (on {(lost > 0).sum()} of {n} presses)")
     assert len(result.notes) == 2 and f"data: {result.notes[1]}" in format_evaluation(result)
