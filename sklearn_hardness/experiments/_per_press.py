@@ -92,9 +92,8 @@ def _fit_transform_chunk(prefix, X, rows):
             if type(step) is OpticalFlowFeatures:
                 tracks = step.fit(Xt).track(Xt)
                 Xt = step._rows_of(tracks)
-                lost = np.sum(tracks.valid[:, :, 0] & ~tracks.valid[:, :, -1], axis=1)
-                found.setdefault("flow_corners", np.asarray(tracks.n_corners))
-                found.setdefault("flow_tracks_lost", lost)
+                found.setdefault("flow_corners", tracks.n_corners)
+                found.setdefault("flow_tracks_lost", tracks.n_lost)
                 continue
             Xt = step.fit_transform(Xt)
             if isinstance(step, ContactFrameSelector):

@@ -272,7 +272,8 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
             n_features, k) bool, True where the corner exists and was tracked
             up to that frame; ``quality`` (n_samples, n_features) float32
             corner quality (0 for padding); ``n_corners`` (n_samples,) int,
-            corners found in the first frame.
+            corners found in the first frame; ``n_lost`` (n_samples,) int, of
+            those, the tracks lost before the last frame.
         """
         check_is_fitted(self)
         X = _check_X(X, n_frames=self.n_frames_in_, frame_shape=self.frame_shape_in_)
@@ -295,11 +296,13 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
                 delayed(_track_one)(g, **kwargs) for g in grey
             )
         points, valid, quality, n_corners = zip(*results)
+        valid = np.stack(valid)
         return Bunch(
             points=np.stack(points),
-            valid=np.stack(valid),
+            valid=valid,
             quality=np.stack(quality),
             n_corners=np.asarray(n_corners, dtype=np.intp),
+            n_lost=np.sum(valid[:, :, 0] & ~valid[:, :, -1], axis=1),
         )
 
     def transform(self, X):
@@ -351,10 +354,8 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
     def _warn_tracks(self, tr):
         """Warn about the padded samples and lost tracks of :meth:`track`'s result ``tr``."""
         n, m, _ = tr.valid.shape
-        valid = tr.valid
         n_padded = int(np.sum(tr.n_corners < m))
-        exists = valid[:, :, 0]
-        n_lost = int(np.sum(exists & ~valid[:, :, -1]))
+        n_lost = int(tr.n_lost.sum())
         tracks = self.output == "tracks"
         if n_padded or n_lost:
             parts = []
@@ -367,7 +368,7 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
                 )
             if n_lost:
                 parts.append(
-                    f"{n_lost} of {int(exists.sum())} track(s) were lost before the last frame; "
+                    f"{n_lost} of {int(tr.n_corners.sum())} track(s) were lost before the last frame; "
                     f"fill_lost={self.fill_lost!r} applies"
                 )
             warnings.warn(
