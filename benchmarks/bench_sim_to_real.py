@@ -28,9 +28,10 @@ curve and ``ContactProfileFeatures`` the same pixel grid as full resolution.
 combined (balanced logistic regression on subsets, beside their object-disjoint
 score on the preset). ``--each-seed`` trains on each of ``--sim-seeds`` alone
 instead of on their pooled presses and ends with the pairs ordered right per
-training seed: one simulated set is one draw of objects, and the order of the
-real objects can move with it. ``--out FILE`` also writes the printed text there
-after a provenance line (``docs/_output``).
+training seed (with ``--feature-subsets``, per subset too): one simulated set is
+one draw of objects, and the order of the real objects can move with it.
+``--out FILE`` also writes the printed text there after a provenance line
+(``docs/_output``).
 Time and peak memory are printed beside the figures.
 """
 
@@ -95,7 +96,8 @@ def feature_subsets(videos, target, groups, real, hardness, say=print):
 
     Per subset: the within-family pairs of the real grasps ordered right when
     trained on all simulated presses, and the object-disjoint 5-fold balanced
-    accuracy on the simulated presses (features computed once).
+    accuracy on the simulated presses (features computed once). Returns
+    ``{subset label: (pairs right, balanced accuracy)}``.
     """
     from sklearn.linear_model import LogisticRegression
     from sklearn.metrics import balanced_accuracy_score
@@ -108,7 +110,8 @@ def feature_subsets(videos, target, groups, real, hardness, say=print):
     cp = ContactProfileFeatures().fit(videos)
     sim, rl = cp.transform(videos), cp.transform(real.videos)
     names = list(cp.get_feature_names_out())
-    say("\n| ContactProfileFeatures used | pairs right (of 9) | everyday object-disjoint bal. acc. |\n|---|---|---|")
+    say("\n| ContactProfileFeatures used | pairs right | everyday object-disjoint bal. acc. |\n|---|---|---|")
+    result = {}
     for subset in SUBSETS:
         if subset is None:
             cols = list(range(len(names)))
@@ -122,8 +125,10 @@ def feature_subsets(videos, target, groups, real, hardness, say=print):
         est.fit(sim[:, cols], target)
         fams = family_pairs(real.object_name, expected_rank(est.predict_proba(rl[:, cols]), est.classes_,
                                                             hardness))
-        right = sum(r for r, _, _ in fams.values())
-        say(f"| {subset or 'all'} | {right} | {balanced_accuracy_score(target, pred):.2f} |")
+        right, total = sum(r for r, _, _ in fams.values()), sum(n for _, n, _ in fams.values())
+        result[subset or "all"] = (right, balanced_accuracy_score(target, pred))
+        say(f"| {subset or 'all'} | {right}/{total} | {result[subset or 'all'][1]:.2f} |")
+    return result
 
 
 def main():
@@ -168,6 +173,7 @@ def main():
     trainings = [[s] for s in args.sim_seeds] if args.each_seed else [args.sim_seeds]
     members = [m for fam in FAMILIES.values() for m in fam]
     right_per_training = {name: [] for name in args.pipelines}
+    subsets_per_training = []  # --feature-subsets: {subset: (pairs right, balanced accuracy)} per training
     for seeds in trainings:
         reset_peak()
         t1 = time.perf_counter()
@@ -199,7 +205,7 @@ def main():
                 f"{fams['foam bricks'][0]}/{fams['foam bricks'][1]} | {right}/{total} | {ranks} | "
                 f"{seconds:.0f} | {peak_rss_mb():.0f} |")
         if args.feature_subsets:
-            feature_subsets(videos, target, np.asarray(groups), real, hardness, say)
+            subsets_per_training.append(feature_subsets(videos, target, np.asarray(groups), real, hardness, say))
     if args.each_seed:
         # total: the pairs of the families present in --data (9 with the whole example_data)
         say(f"\nWithin-family pairs ordered right (of {total}), trained on each simulated set alone "
@@ -210,6 +216,17 @@ def main():
         for name, rights in right_per_training.items():
             say(f"| {name} | " + " | ".join(f"{r}/{total}" for r in rights)
                 + f" | {np.mean(rights):.1f} | {sum(r == total for r in rights)} of {len(rights)} |")
+        if subsets_per_training:
+            say(f"\nContactProfileFeatures subsets (balanced logistic regression): within-family pairs ordered "
+                f"right (of {total}) per simulated set, and the mean object-disjoint balanced accuracy on them")
+            say("\n| ContactProfileFeatures used | " + " | ".join(f"seed {s}" for s in args.sim_seeds)
+                + " | mean | everyday bal. acc. (mean) |")
+            say("|---|" + "---|" * (len(args.sim_seeds) + 2))
+            for subset in subsets_per_training[0]:
+                rights = [per[subset][0] for per in subsets_per_training]
+                accs = [per[subset][1] for per in subsets_per_training]
+                say(f"| {subset} | " + " | ".join(f"{r}/{total}" for r in rights)
+                    + f" | {np.mean(rights):.1f} | {np.mean(accs):.3f} |")
     say(f"\ntotal {time.perf_counter() - t0:.0f} s")
     if args.out:
         write_output(args.out, "\n".join(out))
