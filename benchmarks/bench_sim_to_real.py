@@ -1,7 +1,8 @@
 """Benchmark: pipelines trained only on simulated presses, ordering real objects by softness.
 
 Trains the ready-made pipelines of ``evaluate`` (``peak_change``,
-``contact_profile``, ``contact_profile_nn``, ``convlstm``, ``ofnn``) on ``make_presses("everyday")``
+``contact_profile``, ``contact_profile_3``, ``contact_profile_nn``, ``convlstm``, ``ofnn``) on
+``make_presses("everyday")``
 and predicts every real GelSight Wedge grasp of ``GelSight-lab/EstimateModulus``
 (``--data``: its ``example_data`` folder, kept locally, never committed; see
 ``benchmarks/_estimate_modulus.py``). Each video's expected hardness rank is
@@ -13,7 +14,7 @@ higher), the expected rank of every object, and the contact status of every
 video under the default ``ContactFrameSelector``.
 
     python benchmarks/bench_sim_to_real.py --data .../example_data
-        [--pipelines peak_change contact_profile contact_profile_nn convlstm ofnn] [--roi] [--seed 0]
+        [--pipelines peak_change contact_profile contact_profile_3 contact_profile_nn] [--roi] [--seed 0]
         [--sim-seeds 0] [--each-seed] [--cache DIR] [--variant NAME] [--param NAME=VALUE ...]
         [--feature-subsets] [--out FILE]
 
@@ -134,7 +135,9 @@ def feature_subsets(videos, target, groups, real, hardness, say=print):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data", required=True, help="EstimateModulus example_data folder")
-    parser.add_argument("--pipelines", nargs="+", default=["peak_change", "contact_profile", "contact_profile_nn"])
+    parser.add_argument("--pipelines", nargs="+",
+                        default=["peak_change", "contact_profile", "contact_profile_3", "contact_profile_nn"],
+                        help="evaluate's names (convlstm and ofnn too)")
     parser.add_argument("--roi", action="store_true", help="crop the real grasps to the gel")
     parser.add_argument("--seed", type=int, default=0, help="seed of the nets")
     parser.add_argument("--sim-seeds", type=int, nargs="+", default=[0],

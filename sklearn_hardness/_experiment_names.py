@@ -9,18 +9,22 @@ Nothing here may import anything beyond the standard library.
 """
 
 #: Classifiers selectable by name in the experiments (``model=...``, ``reproduce --model``).
-MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn", "contact_profile", "loading_compliance")
+MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn", "contact_profile", "contact_profile_3",
+               "loading_compliance")
 #: Named models that read ContactProfileFeatures of the whole video (no frame selection).
-CONTACT_PROFILE_MODELS = ("contact_profile_nn", "contact_profile")
+CONTACT_PROFILE_MODELS = ("contact_profile_nn", "contact_profile", "contact_profile_3")
+#: The ContactProfileFeatures of ``"contact_profile_3"``: the video's readings of the depth, the loading
+#: time and the size of the contact (the quantities of the simulator's ideal reader of the gel).
+CONTACT_PROFILE_3_FEATURES = ("log_peak_change", "log_loading_time", "log_contact_spread")
 #: Named models that read each press's force and position, not its video.
 FORCE_POSITION_MODELS = ("loading_compliance",)
 #: Named models whose head is a logistic regression refitted per iteration (no epochs or dropout).
-LOGISTIC_MODELS = ("contact_profile", "loading_compliance")
+LOGISTIC_MODELS = ("contact_profile", "contact_profile_3", "loading_compliance")
 
 #: Pipelines ``evaluate`` knows by name (``"peak_change"`` is the one-number baseline;
 #: ``"loading_compliance"`` reads each press's force and position, not its video).
-PIPELINE_NAMES = ("peak_change", "contact_profile", "contact_profile_nn", "convlstm", "ofnn", "dinov2nn",
-                  "loading_compliance")
+PIPELINE_NAMES = ("peak_change", "contact_profile", "contact_profile_3", "contact_profile_nn", "convlstm", "ofnn",
+                  "dinov2nn", "loading_compliance")
 #: What ``evaluate`` runs by default: the inputs that carry over to new objects on real recordings first.
 DEFAULT_PIPELINES = ("contact_profile", "contact_profile_nn", "convlstm", "ofnn")
 
@@ -46,8 +50,9 @@ KEY_HELP = {
              "(ContactProfileFeatures of the whole video + an MC-dropout MLP, standardised per run) or "
              "contact_profile (the same features + a logistic regression sampled from its Laplace "
              "posterior; refitted at each iteration, epochs, lr, dropout and batch_size do not apply) or "
-             "loading_compliance (each press's force and sensor position, no video: the Hertz compliance "
-             "+ the same logistic regression; the dataset needs force and position)",
+             "contact_profile_3 (the same with three of the features: log_peak_change, log_loading_time, "
+             "log_contact_spread) or loading_compliance (each press's force and sensor position, no video: the "
+             "Hertz compliance + the same logistic regression; the dataset needs force and position)",
     "n_initial": "s0: presses per reference object in the initial training set",
     "n_per_query": "s: presses of the queried object added per iteration",
     "n_iterations": "N: active-sampling iterations",

@@ -357,6 +357,20 @@ def test_a_run_by_name_repeats_exactly(tiny):
     np.testing.assert_array_equal(a.predictions["ofnn"], b.predictions["ofnn"])
 
 
+def test_contact_profile_3_is_the_factory_with_three_features(tiny):
+    """The name runs what a user builds with ``features=`` (the same folds, predictions and scores)."""
+    from sklearn_hardness.models import make_contact_profile_pipeline
+
+    three = ["log_peak_change", "log_loading_time", "log_contact_spread"]
+    named = evaluate_pipelines(tiny, pipelines=["contact_profile_3", "contact_profile"], cv=3, verbose=0)
+    built = evaluate_pipelines(tiny, {"contact_profile_3": make_contact_profile_pipeline(features=three)}, cv=3,
+                               verbose=0)
+    np.testing.assert_array_equal(named.predictions["contact_profile_3"], built.predictions["contact_profile_3"])
+    assert named.table[1]["balanced_accuracy"] == built.table[1]["balanced_accuracy"]
+    # not the twelve: the three give other predictions on these presses
+    assert not np.array_equal(named.predictions["contact_profile_3"], named.predictions["contact_profile"])
+
+
 def test_progress_on_stderr_when_verbose(tiny, capsys):
     import re
 

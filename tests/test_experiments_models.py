@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from sklearn_hardness import models
+from sklearn_hardness._experiment_names import LOGISTIC_MODELS
 from sklearn_hardness.experiments import MODEL_NAMES, get_config
 from sklearn_hardness.experiments._config import check_config
 from sklearn_hardness.experiments._data import _feature_params, _frame_params
@@ -12,9 +13,12 @@ from sklearn_hardness.experiments._models import FACTORIES, make_estimator, mode
 FACTORY_OF = {"convlstm": models.make_convlstm_pipeline, "ofnn": models.make_ofnn_pipeline,
               "dinov2nn": models.make_dinov2nn_pipeline, "contact_profile_nn": models.make_contact_profile_pipeline,
               "contact_profile": models.make_contact_profile_pipeline,
+              "contact_profile_3": models.make_contact_profile_pipeline,
               "loading_compliance": models.make_loading_compliance_pipeline}
-#: The factory arguments that make a named model's head (the default head otherwise).
-HEAD_OF = {"contact_profile": {"head": "logistic"}, "contact_profile_nn": {"head": "nn"}}
+THREE = ["log_peak_change", "log_loading_time", "log_contact_spread"]
+#: The factory arguments that make a named model (its head; the default head otherwise).
+HEAD_OF = {"contact_profile": {"head": "logistic"}, "contact_profile_nn": {"head": "nn"},
+           "contact_profile_3": {"head": "logistic", "features": THREE}}
 
 
 def test_every_named_model_has_its_factory():
@@ -35,7 +39,7 @@ def test_the_run_s_net_is_the_factory_s_classifier(name):
     assert {k: v for k, v in ours.items() if k not in run_params} == \
         {k: v for k, v in theirs.items() if k not in run_params}
     assert net.random_state == 3 and net.class_weight is None  # the paper's unweighted loss
-    if name not in ("contact_profile", "loading_compliance"):  # a logistic regression learns its classes
+    if name not in LOGISTIC_MODELS:  # a logistic regression learns its classes
         np.testing.assert_array_equal(net.classes, np.arange(5))
 
 
@@ -52,6 +56,9 @@ def test_frame_and_feature_steps_come_from_the_factories():
     cfg = check_config(get_config("silicone5", model="contact_profile_nn"))
     assert _frame_params(cfg, "contact_profile_nn") is None
     assert _feature_params(cfg, "contact_profile_nn") == {"kind": "contact_profile", "max_side": 80}
+    assert _feature_params(cfg, "contact_profile") == {"kind": "contact_profile", "max_side": 80}
+    assert _feature_params(cfg, "contact_profile_3") == {"kind": "contact_profile", "max_side": 80,
+                                                         "features": THREE}
     assert _frame_params(cfg, "loading_compliance") is None
     assert _feature_params(cfg, "loading_compliance") == {"kind": "loading_compliance", "features": ["hertz_compliance"],
                                                           "onset": 0.1, "drive_compliance": 0.0}
@@ -78,3 +85,22 @@ def test_frame_size_is_checked_by_one_rule():
             check_config(get_config("silicone5", frame_size=bad))
         with pytest.raises(ValueError, match="'frame_size' parameter .* pair \\(height, width\\)"):
             ContactFrameSelector(frame_size=bad).fit([np.zeros((4, 8, 8, 3), np.uint8)])
+
+
+def test_contact_profile_3_reads_three_of_the_twelve_features():
+    """The named model's inputs are the three columns of the twelve, from the same videos."""
+    from sklearn_hardness.datasets import make_presses
+    from sklearn_hardness.experiments._data import prepare_inputs
+    from sklearn_hardness.features._contact_profile import FEATURE_NAMES
+
+    data = make_presses("everyday", n_per_class=2, n_objects=6, class_ratio=[1, 1, 1], image_size=(32, 40),
+                        codec=None, random_state=0)
+    twelve = prepare_inputs(data, check_config(get_config("silicone5", model="contact_profile")), "contact_profile",
+                            memory=False, verbose=0)
+    three = prepare_inputs(data, check_config(get_config("silicone5", model="contact_profile_3")), "contact_profile_3",
+                           memory=False, verbose=0)
+    assert twelve.X.shape == (12, 12) and three.X.shape == (12, 3)
+    np.testing.assert_array_equal(three.X, twelve.X[:, [FEATURE_NAMES.index(f) for f in THREE]])
+    np.testing.assert_array_equal(three.y, twelve.y)
+    pipe = model_pipeline("contact_profile_3", check_config(get_config("silicone5", model="contact_profile_3")))
+    assert list(pipe.named_steps["features"].features) == THREE and pipe.named_steps["clf"].class_weight is None

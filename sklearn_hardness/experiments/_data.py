@@ -63,10 +63,8 @@ def load_dataset(dataset, cfg):
     """
     spec = _dataset_spec(dataset, cfg)
     if spec is not None and spec[0] == "make_presses":
-
         return make_presses(spec[1], image_size=spec[2], random_state=spec[3])
     if spec is not None:
-
         return load_press_videos(spec[1])
     if not (hasattr(dataset, "videos") or hasattr(dataset, "get")) :
         raise TypeError(
@@ -115,8 +113,6 @@ def _features(frames, feature_params):
     if feature_params is None:
         return frames
     if feature_params["kind"] == "optical_flow":
-
-
         with warnings.catch_warnings():
             warnings.filterwarnings("ignore", message=".*padded.*")
             return OpticalFlowFeatures(n_features=feature_params["n_features"]).fit_transform(frames)
@@ -132,10 +128,10 @@ def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=N
         step = LoadingCompliance(features=feature_params["features"], onset=feature_params["onset"],
                                  drive_compliance=feature_params["drive_compliance"])
         X = _log_positive(step.fit_transform(force_position(data, ["loading_compliance"]))).astype(np.float32)
-    elif frame_params is None:  # contact_profile(_nn): features of the whole videos, no frame selection
-
-        X = ContactProfileFeatures(max_side=feature_params["max_side"], n_jobs=n_jobs).fit_transform(
-            data["videos"]).astype(np.float32)
+    elif frame_params is None:  # contact_profile(_nn, _3): features of the whole videos, no frame selection
+        step = ContactProfileFeatures(max_side=feature_params["max_side"],
+                                      features=feature_params.get("features", "all"), n_jobs=n_jobs)
+        X = step.fit_transform(data["videos"]).astype(np.float32)
     else:
         X = _features(_select_frames(data["videos"], frame_params, verbose, n_jobs), feature_params)
     y = np.asarray(data["target"])

@@ -25,7 +25,7 @@ from sklearn.pipeline import Pipeline
 from sklearn.utils import Bunch, _safe_indexing, check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
-from .._experiment_names import DEFAULT_PIPELINES, PIPELINE_NAMES
+from .._experiment_names import CONTACT_PROFILE_3_FEATURES, DEFAULT_PIPELINES, PIPELINE_NAMES
 from .. import models
 from ..datasets import load_press_videos, make_presses
 from ..datasets._sim_presets import PRESETS
@@ -57,6 +57,8 @@ def _named_pipeline(name, seed=None, roi=None):
         return make_peak_change_baseline(roi=roi)
     if name == "contact_profile":
         return models.make_contact_profile_pipeline(head="logistic", roi=roi)
+    if name == "contact_profile_3":
+        return models.make_contact_profile_pipeline(head="logistic", features=CONTACT_PROFILE_3_FEATURES, roi=roi)
     if name == "contact_profile_nn":
         return models.make_contact_profile_pipeline(head="nn", roi=roi, random_state=seed)
     if name == "convlstm":
@@ -308,6 +310,9 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         + balanced logistic regression,
         :class:`~sklearn_hardness.models.LaplaceLogisticRegression`, whose
         ``predict_proba_samples`` come from its Laplace posterior),
+        ``"contact_profile_3"`` (the same with three of the features:
+        ``log_peak_change``, ``log_loading_time`` and ``log_contact_spread``,
+        the video's readings of the contact's depth, loading time and size),
         ``"contact_profile_nn"`` (the same features +
         :class:`~sklearn_hardness.models.ContactProfileNNClassifier`, MC
         dropout), ``"convlstm"``, ``"ofnn"``,

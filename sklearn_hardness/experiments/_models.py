@@ -1,8 +1,8 @@
 """The experiments' named models, built by the public ``make_*_pipeline`` factories.
 
 One place decides what a model named ``"convlstm"``, ``"ofnn"``, ``"dinov2nn"``,
-``"contact_profile_nn"``, ``"contact_profile"`` or ``"loading_compliance"`` is: its factory in
-:mod:`sklearn_hardness.models`.
+``"contact_profile_nn"``, ``"contact_profile"``, ``"contact_profile_3"`` or ``"loading_compliance"``
+is: its factory in :mod:`sklearn_hardness.models`.
 The experiments take the factory's pipeline apart: its ``"frames"`` step
 (contact-frame selection) and its frozen ``"features"`` step run once per
 dataset (:mod:`._data` caches them), and its ``"clf"`` step is the net each
@@ -18,7 +18,8 @@ import numpy as np
 from sklearn.base import BaseEstimator, clone
 from sklearn.pipeline import Pipeline
 
-from .._experiment_names import CONTACT_PROFILE_MODELS, FORCE_POSITION_MODELS, LOGISTIC_MODELS, MODEL_NAMES
+from .._experiment_names import (CONTACT_PROFILE_3_FEATURES, CONTACT_PROFILE_MODELS, FORCE_POSITION_MODELS,
+                                 LOGISTIC_MODELS, MODEL_NAMES)
 from .. import models
 from ..models import EarlyStoppingAfterFirstFit
 from ..utils._random import set_random_states
@@ -30,8 +31,12 @@ FACTORIES = {
     "dinov2nn": models.make_dinov2nn_pipeline,
     "contact_profile_nn": models.make_contact_profile_pipeline,
     "contact_profile": models.make_contact_profile_pipeline,
+    "contact_profile_3": models.make_contact_profile_pipeline,
     "loading_compliance": models.make_loading_compliance_pipeline,
 }
+
+#: What a named model is beyond its factory's defaults (before the experiments' choices below).
+NAMED_CHOICES = {"contact_profile_3": {"features": CONTACT_PROFILE_3_FEATURES}}
 
 #: Where the experiments depart from the factories' defaults (which are for a user's own,
 #: unseen objects): the paper's inputs and its unweighted loss. The ConvLSTM gets the frames
@@ -49,6 +54,7 @@ PAPER_CHOICES = {
     "dinov2nn": {},
     "contact_profile_nn": {"head": "nn", "class_weight": None},
     "contact_profile": {"head": "logistic", "class_weight": None},
+    "contact_profile_3": {"head": "logistic", "class_weight": None},
     "loading_compliance": {"class_weight": None},
 }
 
@@ -66,7 +72,7 @@ def default_frame_size(model):
 
 def model_pipeline(name, cfg, **classifier_params):
     """The factory's pipeline of a named model, with the experiments' choices and ``cfg``'s input settings."""
-    kwargs = dict(PAPER_CHOICES[name], **classifier_params)
+    kwargs = {**NAMED_CHOICES.get(name, {}), **PAPER_CHOICES[name], **classifier_params}
     if name in CONTACT_PROFILE_MODELS:
         kwargs["max_side"] = 80
     elif name not in FORCE_POSITION_MODELS:
@@ -137,7 +143,10 @@ def feature_params(cfg, model):
     if model == "dinov2nn":
         return {"kind": "dinov2", "model": step.model}
     if model in CONTACT_PROFILE_MODELS:
-        return {"kind": "contact_profile", "max_side": int(step.max_side)}
+        params = {"kind": "contact_profile", "max_side": int(step.max_side)}
+        if step.features != "all":  # the key of all twelve stays that of the inputs cached before features=
+            params["features"] = list(step.features)
+        return params
     if model in FORCE_POSITION_MODELS:
         return {"kind": "loading_compliance", "features": list(step.features), "onset": float(step.onset),
                 "drive_compliance": float(step.drive_compliance)}
