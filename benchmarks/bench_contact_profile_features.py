@@ -70,14 +70,16 @@ from _memory import peak_rss_mb, reset_peak
 from _output import report
 from _sim_variants import VARIANTS, variant_params
 from bench_sim_vs_real_stats import parse_param, press_objects
+from sklearn_hardness._experiment_names import CONTACT_PROFILE_3_FEATURES
 from sklearn_hardness.features._contact_profile import FEATURE_NAMES
 
 ROWS = ("one number (peak change)", "contact profile, first 10 features", "contact profile, 12 features",
         "contact profile, 3 features: peak change, loading time, spread",
         "ideal reader of the gel: depth, area, loading time", "force and approach (robot)")
 
-#: The video's readings of the ideal reader's three quantities (``features=`` of ContactProfileFeatures).
-THREE = ("log_peak_change", "log_loading_time", "log_contact_spread")
+#: The video's readings of the ideal reader's three quantities (``features=`` of ContactProfileFeatures):
+#: the features of the named model ``contact_profile_3``.
+THREE = CONTACT_PROFILE_3_FEATURES
 
 
 def video_features(videos, i):
