@@ -14,10 +14,14 @@ frame by more than 3), the brightness share of the change at peak (over the
 pixels where some channel changed by more than 6: mean absolute change of the
 grey level over mean absolute change of a channel; near 0 when the change is
 one of hue only, as under three evenly spaced coloured lights, and 1 when all
-channels change alike) and the contact status counts.
+channels change alike) and the contact status counts. ``--manifest`` computes
+the same per rank on recordings listed in a manifest CSV
+(:func:`~sklearn_hardness.datasets.load_press_videos`: e.g. the held-out
+GelSight Mini presses, which this repository never holds).
 
     python benchmarks/bench_sim_vs_real_stats.py [--data .../example_data] [--roi] [--seed 0]
         [--n-objects 42] [--variant NAME] [--param NAME=VALUE ...] [--by-kind]
+        [--manifest MANIFEST] [--no-sim] [--features] [--out FILE]
 
 Prints markdown tables, time and peak memory. ``--param`` overrides a preset
 parameter (e.g. ``--param ambient_leak=0.5``) to try a calibration;
@@ -25,6 +29,15 @@ parameter (e.g. ``--param ambient_leak=0.5``) to try a calibration;
 ``--by-kind`` adds, per rank, the median peak change of each shape and the
 share of the within-rank variance of the log peak change that the kind of
 object explains (between-kind over total): what sets the spread within a rank.
+``--features`` adds, per group, the median [IQR] of the contact-profile
+features of ``contact_profile_3`` (``log_peak_change``, ``log_loading_time``,
+``log_contact_spread``) and of ``area_at_peak``, with the direction each takes
+with hardness: Spearman's rho with the rank (simulated presses, a manifest with
+a ``hardness`` column or labels soft / moderate / hard), or the within-family
+pairs of the Wedge grasps in which it rises with hardness. A feature that
+moves one way on the simulator and the other on real presses is one that a
+pipeline trained on the simulator, or chosen on it, reads backwards.
+``--out FILE`` also writes the printed text there after a provenance line.
 """
 
 import argparse
@@ -35,6 +48,7 @@ from collections import Counter
 import numpy as np
 
 from _memory import peak_rss_mb, reset_peak
+from _output import write_output
 from _sim_variants import VARIANTS, variant_params
 
 #: Held-out real GelSight Mini presses (real_presses_stats.md), median per rank.
@@ -141,6 +155,65 @@ def by_kind(names, rows, data):
     return "\n".join(lines)
 
 
+#: ``--features``: the features of ``contact_profile_3`` and the share of changed pixels at the peak.
+FEATURES = ("log_peak_change", "log_loading_time", "log_contact_spread", "area_at_peak")
+#: Rank of the labels of a manifest without a ``hardness`` column, where they are these.
+RANK_OF_LABEL = {"soft": 1.0, "moderate": 2.0, "hard": 3.0}
+
+
+def contact_profile(videos):
+    """The :data:`FEATURES` columns of ``ContactProfileFeatures`` for each video (rows in video order)."""
+    from sklearn_hardness.features import ContactProfileFeatures
+
+    return ContactProfileFeatures(features=FEATURES).fit_transform(videos)
+
+
+def feature_table(groups, X, title, rank=None, families=None, names=None):
+    """Markdown table: per group, the median [IQR] of each of :data:`FEATURES`, and their direction.
+
+    ``rank`` (per press): the last row gives Spearman's rho of each feature
+    with it. ``families`` ({family: members, hardest first}) with ``names``
+    (per press): the last row gives the within-family pairs in which the
+    feature's mean over an object's presses is higher for the harder object.
+    """
+    from scipy.stats import spearmanr
+
+    groups = np.asarray(groups)
+    lines = [f"\n{title}\n", "| group | presses | " + " | ".join(FEATURES) + " |",
+             "|---" * (len(FEATURES) + 2) + "|"]
+    for g in dict.fromkeys(groups.tolist()):
+        m = groups == g
+        lines.append(f"| {g} | {m.sum()} | " + " | ".join(_q(X[m, j]) for j in range(len(FEATURES))) + " |")
+    if rank is not None:
+        rho = [spearmanr(X[:, j], rank, nan_policy="omit")[0] for j in range(len(FEATURES))]
+        lines.append("| Spearman with the rank | | " + " | ".join(f"{r:+.2f}" for r in rho) + " |")
+    if families is not None:
+        names = np.asarray(names)
+        cells = []
+        for j in range(len(FEATURES)):
+            up = pairs = 0
+            for members in families.values():
+                means = [np.nanmean(X[names == o, j]) for o in members if (names == o).any()]
+                for a in range(len(means)):
+                    for b in range(a + 1, len(means)):
+                        pairs += 1
+                        up += bool(means[a] > means[b])
+            cells.append(f"{up}/{pairs}")
+        lines.append("| pairs in which it rises with hardness | | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def manifest_rank(data):
+    """Each press's rank: the manifest's ``hardness``, else soft / moderate / hard as 1 / 2 / 3, else None."""
+    target = np.asarray(data.target)
+    if data.hardness is not None:
+        return np.asarray(data.hardness, dtype=float)[target]
+    labels = [str(n).lower() for n in data.target_names]
+    if all(n in RANK_OF_LABEL for n in labels):
+        return np.array([RANK_OF_LABEL[n] for n in labels])[target]
+    return None
+
+
 def parse_param(text):
     """``NAME=VALUE`` or ``NAME=LO,HI`` -> (name, float or tuple); ``true`` / ``false`` -> bool."""
     name, value = text.split("=", 1)
@@ -162,7 +235,18 @@ def main():
     parser.add_argument("--by-kind", action="store_true",
                         help="per rank: median peak change by shape, and the share of the spread the kind explains")
     parser.add_argument("--no-sim", action="store_true")
+    parser.add_argument("--manifest", default=None,
+                        help="a manifest CSV of your recordings (load_press_videos): the same statistics per label")
+    parser.add_argument("--features", action="store_true",
+                        help="also: the features of contact_profile_3 and the changed area per group, and their "
+                             "direction with hardness")
+    parser.add_argument("--out", default=None, help="also write the printed text there, after a provenance line")
     args = parser.parse_args()
+    out = []
+
+    def say(text=""):
+        print(text, flush=True)
+        out.append(text)
 
     if not args.no_sim:
         from sklearn_hardness.datasets import make_presses
@@ -175,12 +259,15 @@ def main():
         data = make_presses("everyday", random_state=args.seed, **extra)
         rows = collect(data.videos)
         names = np.asarray(data.target_names)[np.asarray(data.target)]
-        print(table(names, rows, f"Simulated `everyday` (seed {args.seed}, {len(rows)} presses"
+        say(table(names, rows, f"Simulated `everyday` (seed {args.seed}, {len(rows)} presses"
                     f"{', ' + str(extra) if extra else ''}); in brackets: real GelSight Mini median",
                     reference=REAL_MINI))
         if args.by_kind:
-            print(by_kind(names, rows, data))
-        print(f"\n{time.perf_counter() - t0:.1f} s, peak RSS {peak_rss_mb():.0f} MB")
+            say(by_kind(names, rows, data))
+        if args.features:
+            say(feature_table(names, contact_profile(data.videos), f"Contact-profile features, simulated `everyday` "
+                              f"(seed {args.seed})", rank=np.asarray(data.hardness, dtype=float)[data.target]))
+        say(f"\n{time.perf_counter() - t0:.1f} s, peak RSS {peak_rss_mb():.0f} MB")
 
     if args.data:
         from _estimate_modulus import GEL_ROI, load_estimate_modulus
@@ -189,9 +276,34 @@ def main():
         t0 = time.perf_counter()
         real = load_estimate_modulus(args.data, roi=GEL_ROI if args.roi else None)
         rows = collect(real.videos)
-        print(table(real.object_name, rows, "Real GelSight Wedge grasps (EstimateModulus example_data"
-                    f"{', gel ROI ' + str(GEL_ROI) if args.roi else ', full frame'}), per object"))
-        print(f"\n{time.perf_counter() - t0:.1f} s, peak RSS {peak_rss_mb():.0f} MB")
+        view = f"{', gel ROI ' + str(GEL_ROI) if args.roi else ', full frame'}"
+        say(table(real.object_name, rows,
+                  f"Real GelSight Wedge grasps (EstimateModulus example_data{view}), per object"))
+        if args.features:
+            from _estimate_modulus import FAMILIES
+
+            say(feature_table(real.object_name, contact_profile(real.videos), "Contact-profile features, real "
+                              f"GelSight Wedge grasps{view}", families=FAMILIES, names=real.object_name))
+        say(f"\n{time.perf_counter() - t0:.1f} s, peak RSS {peak_rss_mb():.0f} MB")
+
+    if args.manifest:
+        from sklearn_hardness.datasets import load_press_videos
+
+        reset_peak()
+        t0 = time.perf_counter()
+        data = load_press_videos(args.manifest)
+        names = np.asarray(data.target_names)[np.asarray(data.target)]
+        rows = collect(data.videos)
+        say(table(names, rows, f"Recordings of {args.manifest} ({len(rows)} presses), per label"))
+        if args.features:
+            rank = manifest_rank(data)
+            say(feature_table(names, contact_profile(data.videos), f"Contact-profile features, {args.manifest}",
+                              rank=rank))
+            if rank is None:
+                say("(no hardness column and labels other than soft / moderate / hard: no direction with hardness)")
+        say(f"\n{time.perf_counter() - t0:.1f} s, peak RSS {peak_rss_mb():.0f} MB")
+    if args.out:
+        write_output(args.out, "\n".join(out))
 
 
 if __name__ == "__main__":
