@@ -85,9 +85,10 @@ def order_report(name, est, real, hardness):
 
 
 #: Feature subsets of ``--feature-subsets`` (ContactProfileFeatures names); None: all of them (twelve
-#: since issue 20 added ``log_loading_time`` and ``log_contact_spread``).
-SUBSETS = [None, "-concentration", "log_peak_change", "peak_over_precontact", "rise_frames",
-           "area_at_peak", "concentration", "rise_frames area_at_peak",
+#: since issue 20 added ``log_loading_time`` and ``log_contact_spread``); names with a leading ``-``: all
+#: but those (the second row: the ten features of before issue 20).
+SUBSETS = [None, "-log_loading_time -log_contact_spread", "-concentration", "log_peak_change",
+           "peak_over_precontact", "rise_frames", "area_at_peak", "concentration", "rise_frames area_at_peak",
            "peak_over_precontact rise_frames area_at_peak", "log_loading_time", "log_contact_spread",
            "log_peak_change log_loading_time log_contact_spread"]
 
@@ -117,7 +118,9 @@ def feature_subsets(videos, target, groups, real, hardness, say=print):
         if subset is None:
             cols = list(range(len(names)))
         elif subset.startswith("-"):
-            cols = [j for j, n in enumerate(names) if n != subset[1:]]
+            dropped = [n[1:] for n in subset.split()]
+            assert set(dropped) <= set(names), f"unknown features in {subset!r}"
+            cols = [j for j, n in enumerate(names) if n not in dropped]
         else:
             cols = [names.index(n) for n in subset.split()]
         est = make_pipeline(StandardScaler(), LogisticRegression(class_weight="balanced", max_iter=2000))
