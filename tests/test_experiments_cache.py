@@ -51,6 +51,20 @@ def test_inputs_are_computed_once_then_read_from_disk(tmp_path, monkeypatch):
     assert calls == [1, 1, 1, 1] and len(os.listdir(cache)) == 2
 
 
+def test_a_choice_of_contact_profile_features_is_its_own_cache_entry(tmp_path):
+    """``contact_profile_3`` after ``contact_profile`` on the same cache: three columns, not the cached twelve."""
+    manifest = _manifest(tmp_path)
+    cache = tmp_path / "cache"
+    _data._MEMO.clear()
+    twelve = _data.prepare_inputs(manifest, check_config(get_config("silicone5", model="contact_profile")),
+                                  "contact_profile", memory=cache, verbose=0)
+    _data._MEMO.clear()  # a new process: only the disk cache is left
+    three = _data.prepare_inputs(manifest, check_config(get_config("silicone5", model="contact_profile_3")),
+                                 "contact_profile_3", memory=cache, verbose=0)
+    assert twelve.X.shape[1] == 12 and three.X.shape[1] == 3 and len(os.listdir(cache)) == 2
+    np.testing.assert_array_equal(three.X, twelve.X[:, [0, 10, 11]])
+
+
 def test_default_cache_dir_follows_the_environment(tmp_path, monkeypatch):
     monkeypatch.setenv("SKLEARN_HARDNESS_CACHE", str(tmp_path / "c"))
     assert _data.default_cache_dir() == str(tmp_path / "c")
