@@ -93,13 +93,15 @@ SUBSETS = [None, "-log_loading_time -log_contact_spread", "-concentration", "log
            "log_peak_change log_loading_time log_contact_spread"]
 
 
-def feature_subsets(videos, target, groups, real, hardness, say=print):
+def feature_subsets(videos, target, groups, real, rl, hardness, say=print):
     """ContactProfileFeatures + balanced logistic regression on subsets of the features.
 
     Per subset: the within-family pairs of the real grasps ordered right when
     trained on all simulated presses, and the object-disjoint 5-fold balanced
-    accuracy on the simulated presses (features computed once). Returns
-    ``{subset label: (pairs right, balanced accuracy)}``.
+    accuracy on the simulated presses (features computed once). ``rl``: the
+    real grasps' features (``ContactProfileFeatures().fit_transform``, the
+    same for every training set). Returns ``{subset label: (pairs right,
+    balanced accuracy)}``.
     """
     from sklearn.linear_model import LogisticRegression
     from sklearn.metrics import balanced_accuracy_score
@@ -110,7 +112,7 @@ def feature_subsets(videos, target, groups, real, hardness, say=print):
     from sklearn_hardness.features import ContactProfileFeatures
 
     cp = ContactProfileFeatures().fit(videos)
-    sim, rl = cp.transform(videos), cp.transform(real.videos)
+    sim = cp.transform(videos)
     names = list(cp.get_feature_names_out())
     say("\n| ContactProfileFeatures used | pairs right | everyday object-disjoint bal. acc. |\n|---|---|---|")
     result = {}
@@ -180,6 +182,10 @@ def main():
     members = [m for fam in FAMILIES.values() for m in fam]
     right_per_training = {name: [] for name in args.pipelines}
     subsets_per_training = []  # --feature-subsets: {subset: (pairs right, balanced accuracy)} per training
+    if args.feature_subsets:
+        from sklearn_hardness.features import ContactProfileFeatures
+
+        real_features = ContactProfileFeatures().fit_transform(real.videos)
     for seeds in trainings:
         reset_peak()
         t1 = time.perf_counter()
@@ -211,7 +217,8 @@ def main():
                 f"{fams['foam bricks'][0]}/{fams['foam bricks'][1]} | {right}/{total} | {ranks} | "
                 f"{seconds:.0f} | {peak_rss_mb():.0f} |")
         if args.feature_subsets:
-            subsets_per_training.append(feature_subsets(videos, target, np.asarray(groups), real, hardness, say))
+            subsets_per_training.append(feature_subsets(videos, target, np.asarray(groups), real, real_features,
+                                                        hardness, say))
     if args.each_seed:
         # total: the pairs of the families present in --data (9 with the whole example_data)
         say(f"\nWithin-family pairs ordered right (of {total}), trained on each simulated set alone "

@@ -168,13 +168,14 @@ def contact_profile(videos):
     return ContactProfileFeatures(features=FEATURES).fit_transform(videos)
 
 
-def feature_table(groups, X, title, rank=None, families=None, names=None):
+def feature_table(groups, X, title, rank=None, object_names=None):
     """Markdown table: per group, the median [IQR] of each of :data:`FEATURES`, and their direction.
 
     ``rank`` (per press): the last row gives Spearman's rho of each feature
-    with it. ``families`` ({family: members, hardest first}) with ``names``
-    (per press): the last row gives the within-family pairs in which the
-    feature's mean over an object's presses is higher for the harder object.
+    with it. ``object_names`` (per press, the Wedge grasps' objects): the last
+    row gives the within-family pairs in which the feature's mean over an
+    object's presses is higher for the harder object
+    (``_estimate_modulus.family_pairs`` with the feature as the score).
     """
     from scipy.stats import spearmanr
 
@@ -187,18 +188,13 @@ def feature_table(groups, X, title, rank=None, families=None, names=None):
     if rank is not None:
         rho = [spearmanr(X[:, j], rank, nan_policy="omit")[0] for j in range(len(FEATURES))]
         lines.append("| Spearman with the rank | | " + " | ".join(f"{r:+.2f}" for r in rho) + " |")
-    if families is not None:
-        names = np.asarray(names)
+    if object_names is not None:
+        from _estimate_modulus import family_pairs
+
         cells = []
         for j in range(len(FEATURES)):
-            up = pairs = 0
-            for members in families.values():
-                means = [np.nanmean(X[names == o, j]) for o in members if (names == o).any()]
-                for a in range(len(means)):
-                    for b in range(a + 1, len(means)):
-                        pairs += 1
-                        up += bool(means[a] > means[b])
-            cells.append(f"{up}/{pairs}")
+            fams = family_pairs(object_names, X[:, j]).values()
+            cells.append(f"{sum(r for r, _, _ in fams)}/{sum(n for _, n, _ in fams)}")
         lines.append("| pairs in which it rises with hardness | | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
@@ -280,10 +276,8 @@ def main():
         say(table(real.object_name, rows,
                   f"Real GelSight Wedge grasps (EstimateModulus example_data{view}), per object"))
         if args.features:
-            from _estimate_modulus import FAMILIES
-
             say(feature_table(real.object_name, contact_profile(real.videos), "Contact-profile features, real "
-                              f"GelSight Wedge grasps{view}", families=FAMILIES, names=real.object_name))
+                              f"GelSight Wedge grasps{view}", object_names=real.object_name))
         say(f"\n{time.perf_counter() - t0:.1f} s, peak RSS {peak_rss_mb():.0f} MB")
 
     if args.manifest:
