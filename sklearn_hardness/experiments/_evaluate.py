@@ -25,7 +25,7 @@ from sklearn.pipeline import Pipeline
 from sklearn.utils import Bunch, _safe_indexing, check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
-from .._experiment_names import CONTACT_PROFILE_3_FEATURES, DEFAULT_PIPELINES, PIPELINE_NAMES
+from .._experiment_names import DEFAULT_PIPELINES, PIPELINE_NAMES
 from .. import models
 from ..datasets import load_press_videos, make_presses
 from ..datasets._sim_presets import PRESETS
@@ -35,6 +35,7 @@ from ..preprocessing._contact_curve import _STATUSES
 from ..utils._random import int_seed
 from ..utils._validation import check_roi
 from ._force_position import force_position, presses_lacking_force_position
+from ._models import NAMED_CHOICES
 from ._peak_baseline import make_peak_change_baseline
 from ._per_press import describe, prefix_key, split_per_press, transform_per_press
 from ._runner import ProgressLog
@@ -55,10 +56,8 @@ def _named_pipeline(name, seed=None, roi=None):
     """
     if name == "peak_change":
         return make_peak_change_baseline(roi=roi)
-    if name == "contact_profile":
-        return models.make_contact_profile_pipeline(head="logistic", roi=roi)
-    if name == "contact_profile_3":
-        return models.make_contact_profile_pipeline(head="logistic", features=CONTACT_PROFILE_3_FEATURES, roi=roi)
+    if name in ("contact_profile", "contact_profile_3"):  # what the name adds: the experiments' NAMED_CHOICES
+        return models.make_contact_profile_pipeline(head="logistic", roi=roi, **NAMED_CHOICES.get(name, {}))
     if name == "contact_profile_nn":
         return models.make_contact_profile_pipeline(head="nn", roi=roi, random_state=seed)
     if name == "convlstm":
