@@ -144,3 +144,16 @@ def test_cache_is_cleared_by_function_and_command(tmp_path, capsys):
     assert "removed 1 cached input file(s)" in capsys.readouterr().out
     assert os.listdir(cache) == ["notes.txt"]  # only the cache's own files go
     assert _data.clear_cache(cache) == [] and _data.clear_cache(tmp_path / "nowhere") == []
+
+
+def test_ofnn_inputs_say_once_how_many_presses_the_flow_padded(tmp_path):
+    # the paper's OFNN reads 500 corners; a small frame has fewer, padded with zeros: the one pass over
+    # every press says so once, with the count, instead of nothing
+    cfg = check_config(dict(get_config("silicone5", **TINY), model="ofnn"))
+    data = tiny_presses()
+    with pytest.warns(UserWarning) as record:
+        inputs = _data.prepare_inputs(data, cfg, "ofnn", memory=tmp_path, verbose=0)
+    padded = [str(w.message) for w in record if "padded" in str(w.message)]
+    n = len(data.target)
+    assert len(padded) == 1 and f"{n} of {n} sample(s) had fewer than n_features=500 corners" in padded[0]
+    assert inputs.X.shape[0] == n

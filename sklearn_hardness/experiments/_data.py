@@ -113,9 +113,8 @@ def _features(frames, feature_params):
     if feature_params is None:
         return frames
     if feature_params["kind"] == "optical_flow":
-        with warnings.catch_warnings():
-            warnings.filterwarnings("ignore", message=".*padded.*")
-            return OpticalFlowFeatures(n_features=feature_params["n_features"]).fit_transform(frames)
+        # one pass over every press: its warning (presses padded, tracks lost) comes once, with the counts
+        return OpticalFlowFeatures(n_features=feature_params["n_features"]).fit_transform(frames)
 
     return DINOv2Features(model=feature_params["model"]).fit_transform(frames)
 
