@@ -47,8 +47,10 @@ print(format_evaluation(result))
 # fold. ``recommended`` is None when no margin's interval lies above 0: then
 # the one number does as well within what five folds of these objects can
 # tell, and more objects, not more repetitions, would narrow the intervals.
-# Below the table, each pipeline's recall per class says which ranks it
-# misses; the confusion matrices show where those presses went.
+# Below the table, ``per object`` scores the test objects instead of the
+# presses (an object's class: the mean of its presses' probabilities), and
+# each pipeline's recall per class says which ranks it misses; the confusion
+# matrices show where those presses went.
 fig = plot_confusion_matrices(result)
 plt.show()
 

@@ -228,6 +228,62 @@ def test_recall_per_class_says_which_ranks_a_pipeline_misses(tiny):
     assert "oracle" in text and "1.00 / 1.00 / 1.00" in text and "0.00 / 1.00 / 0.00" in text
 
 
+class _SureOnceUnsureOnce(_KnowsTheLabels):
+    """``labels`` maps each video's bytes to its class probabilities; ``predict`` is their argmax."""
+
+    def predict_proba(self, X):
+        return np.array([self.labels[np.asarray(v).tobytes()] for v in X])
+
+    def predict(self, X):
+        return np.argmax(self.predict_proba(X), axis=1)
+
+
+class _SureOnceUnsureOnceVotes(_SureOnceUnsureOnce):
+    """The same predictions without ``predict_proba``: per object, the presses' votes decide."""
+
+    predict_proba = property(doc="no probabilities")  # hasattr(...) is False
+
+    def predict(self, X):
+        return np.array([np.argmax(self.labels[np.asarray(v).tobytes()]) for v in X])
+
+
+def test_per_object_figures_class_each_object_by_its_presses_mean_probabilities(tiny):
+    # each object's first press is sure and right, its second unsure and wrong: half the presses are
+    # wrong, but the mean of an object's two presses' probabilities picks its class every time
+    proba, seen = {}, set()
+    for video, c, obj in zip(tiny.videos, tiny.target, tiny.object_id):
+        p = np.zeros(3)
+        if obj not in seen:
+            p[c], p[(c + 1) % 3], p[(c + 2) % 3] = 0.9, 0.05, 0.05
+        else:
+            p[(c + 1) % 3], p[c], p[(c + 2) % 3] = 0.5, 0.3, 0.2
+        seen.add(obj)
+        proba[np.asarray(video).tobytes()] = p
+    assert np.bincount(np.unique(tiny.object_id, return_counts=True)[1]).tolist() == [0, 0, 12]
+    pipes = {"mean": _SureOnceUnsureOnce(proba), "votes": _SureOnceUnsureOnceVotes(proba)}
+    result = evaluate_pipelines(tiny, pipes, cv=3, verbose=0)
+    rows = {r["pipeline"]: r for r in result.table}
+    np.testing.assert_allclose(result.fold_scores["mean"], 0.5)
+    np.testing.assert_allclose(result.fold_scores["votes"], 0.5)
+    np.testing.assert_allclose(result.object_fold_scores["mean"], 1.0)
+    # without probabilities each object's two votes tie and the lower class wins: right for the objects of
+    # classes 0 and 1 (0 against 1, 1 against 2), wrong for those of class 2 (2 against 0)
+    np.testing.assert_allclose(result.object_fold_scores["votes"], 2 / 3)
+    assert rows["mean"]["object_balanced_accuracy"] == 1.0 and rows["mean"]["balanced_accuracy"] == 0.5
+    lo, hi = rows["votes"]["object_balanced_accuracy_ci"]
+    assert rows["votes"]["object_balanced_accuracy"] == pytest.approx(2 / 3) and lo <= 2 / 3 + 1e-12 <= hi + 2e-12
+    base = result.object_fold_scores["peak_change"]
+    assert rows["mean"]["object_vs_baseline"] == pytest.approx(np.mean(1.0 - base))
+    assert rows["peak_change"]["object_vs_baseline"] is None
+    text = format_evaluation(result)
+    assert "per object: each test object classed by the mean of its presses' predicted probabilities" in text
+    assert "12 objects, median 2 presses each" in text
+    block = text.split("per object:")[1].split("recall per class")[0]
+    lines = {line.split()[0]: line.split(maxsplit=1)[1] for line in block.splitlines()[1:]}
+    assert lines["mean"].startswith("1.00 [1.00, 1.00]") and lines["votes"].startswith("0.67 [0.67, 0.67]")
+    assert lines["peak_change"].count("[") == 1  # no margin over itself
+
+
 def test_failing_pipeline_is_reported_not_dropped(tiny):
     with pytest.warns(RuntimeWarning, match="boom"):
         result = evaluate_pipelines(tiny, {"bad": _Fails()}, cv=3, error_score=np.nan)
@@ -316,6 +372,8 @@ def test_cli_evaluate_on_a_manifest(tmp_path, capsys, monkeypatch):
     saved = json.loads((out / "evaluation.json").read_text())
     assert saved["target_names"] == ["hard", "moderate", "soft"] and len(saved["fold_scores"]["peak_change"]) == 3
     assert saved["recommended"] is None and saved["recommended_with_samples"] is None  # the baseline alone
+    # one press per object: the figures per object are those per press, and the table leaves them out
+    assert saved["object_fold_scores"] == saved["fold_scores"] and "per object" not in text
     # the saved table says what made it: the command less --out, and the code that ran
     from sklearn_hardness.experiments import code_fingerprint, parse_provenance
 

@@ -94,6 +94,7 @@ def _run_evaluate(args):
     rows = [{k: (list(v) if isinstance(v, tuple) else v) for k, v in r.items()} for r in result.table]
     (out / "evaluation.json").write_text(json.dumps(
         {"table": rows, "fold_scores": {k: v.tolist() for k, v in result.fold_scores.items()},
+         "object_fold_scores": {k: v.tolist() for k, v in result.object_fold_scores.items()},
          "n_repeats": result.n_repeats, "notes": result.notes,
          "recommended": result.recommended, "recommended_with_samples": result.recommended_with_samples,
          "target_names": result.target_names.tolist(), "provenance": parse_provenance(provenance)}, indent=1))

@@ -235,13 +235,15 @@ def _loading_phase_note(estimator, rows, name):
     return text
 
 
-def _fit_fold(name, estimator, X, y, train, test, hardness, error_score):
+def _fit_fold(name, estimator, X, y, groups, train, test, hardness, error_score):
     t0 = time.perf_counter()
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)
             est = clone(estimator).fit(_safe_indexing(X, train), y[train])
-            pred = np.asarray(est.predict(_safe_indexing(X, test)))
+            X_test = _safe_indexing(X, test)
+            pred = np.asarray(est.predict(X_test))
+            proba = _class_proba(est, X_test, pred, int(y.max()) + 1)
     except Exception as exc:
         if error_score == "raise":
             raise
@@ -249,8 +251,29 @@ def _fit_fold(name, estimator, X, y, train, test, hardness, error_score):
         return dict(pred=None, time=time.perf_counter() - t0, error=f"{type(exc).__name__}: {exc}")
     seconds = time.perf_counter() - t0
     mae = None if hardness is None else hardness_mae(y[test], pred, hardness)
+    object_y, object_pred = _per_object(proba, y[test], groups[test])
     return dict(pred=pred, time=seconds, error=None,
-                balanced_accuracy=balanced_accuracy_score(y[test], pred), mae=mae)
+                balanced_accuracy=balanced_accuracy_score(y[test], pred), mae=mae,
+                object_balanced_accuracy=balanced_accuracy_score(object_y, object_pred))
+
+
+def _class_proba(estimator, X, pred, n_classes):
+    """Probabilities of classes ``0 .. n_classes - 1`` per press: ``predict_proba``, else the prediction's vote."""
+    if not hasattr(estimator, "predict_proba"):
+        return np.eye(n_classes)[pred]
+    found = np.asarray(estimator.predict_proba(X))
+    classes = getattr(estimator, "classes_", np.arange(found.shape[1]))
+    proba = np.zeros((len(pred), n_classes))
+    proba[:, np.asarray(classes, dtype=int)] = found
+    return proba
+
+
+def _per_object(proba, y, groups):
+    """Each object's label and predicted class: the class of the mean of its presses' probabilities."""
+    _, first, index = np.unique(groups, return_index=True, return_inverse=True)
+    total = np.zeros((len(first), proba.shape[1]))
+    np.add.at(total, index, proba)
+    return y[first], np.argmax(total, axis=1)  # an object's presses share its label
 
 
 def _indexed(j, func, *args):
@@ -403,7 +426,13 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
             ``n_repeats``, ``predict_proba_samples`` (whether the pipeline
             has it, so active sampling can use it), ``recall`` (class name
             -> recall over the out-of-fold predictions of all repetitions:
-            which ranks a pipeline misses), ``error``. Every
+            which ranks a pipeline misses), ``object_balanced_accuracy``
+            and ``object_balanced_accuracy_ci``, ``object_vs_baseline`` and
+            ``object_vs_baseline_ci`` (the same over each fold's test
+            objects instead of its presses: an object's class is the argmax
+            of the mean of its presses' ``predict_proba``, or their majority
+            vote for a pipeline without it, ties to the lower class; what
+            several presses of a new object tell), ``error``. Every
             interval is over the ``n_repeats * cv`` fold scores, its variance
             corrected for overlapping training sets:
             ``var * (1 / (n_repeats * cv) + n_test / n_train)``, and is
@@ -411,6 +440,8 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
             ``[-1, 1]``, MAE from 0).
         fold_scores : dict of name -> ndarray of shape (n_repeats * cv,)
             Balanced accuracy per fold, repetition after repetition.
+        object_fold_scores : dict of name -> ndarray of shape (n_repeats * cv,)
+            The same over each fold's test objects (``object_balanced_accuracy``).
         predictions : dict of name -> ndarray of shape (n_samples,)
             Out-of-fold predictions of the first repetition (every press
             once).
@@ -514,13 +545,13 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     jobs = [(name, rests[name], k) for name in named for k in range(len(folds))]
     progress = ProgressLog(len(jobs), desc="evaluate", verbose=verbose, unit="fits")
     outs = [None] * len(jobs)
-    calls = (delayed(_indexed)(j, _fit_fold, name, est, inputs[name], y, folds[k][0], folds[k][1], hardness,
-                               error_score) for j, (name, est, k) in enumerate(jobs))
+    calls = (delayed(_indexed)(j, _fit_fold, name, est, inputs[name], y, groups, folds[k][0], folds[k][1],
+                               hardness, error_score) for j, (name, est, k) in enumerate(jobs))
     for j, out in Parallel(n_jobs=n_jobs, return_as="generator_unordered")(calls):
         outs[j] = out
         progress.update(1)
     test_train_ratio = float(np.mean([len(test) / len(train) for train, test in folds]))
-    table, fold_scores, predictions, confusion = [], {}, {}, {}
+    table, fold_scores, object_fold_scores, predictions, confusion = [], {}, {}, {}, {}
     for name in named:
         rows = [o for (n, _, _), o in zip(jobs, outs) if n == name]
         errors = sorted({o["error"] for o in rows if o["error"]})
@@ -534,6 +565,9 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         mae, mae_ci = (None, None) if hardness is None else _ci95(maes, test_train_ratio, cv - 1,
                                                                   bounds=(0.0, np.inf))
         fold_scores[name], predictions[name] = scores, pred[0]
+        object_fold_scores[name] = np.array([o.get("object_balanced_accuracy", error_score) for o in rows],
+                                            dtype=float)
+        object_ba, object_ba_ci = _ci95(object_fold_scores[name], test_train_ratio, cv - 1, bounds=(0.0, 1.0))
         ok = pred >= 0
         confusion[name] = (confusion_matrix(np.broadcast_to(y, pred.shape)[ok], pred[ok],
                                             labels=np.arange(n_classes)) if ok.any()
@@ -542,18 +576,22 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         recall = {str(names[c]): (float(confusion[name][c, c] / support[c]) if support[c] else None)
                   for c in range(n_classes)}
         table.append(dict(pipeline=name, balanced_accuracy=ba, balanced_accuracy_ci=ba_ci, mae=mae,
-                          mae_ci=mae_ci, recall=recall,
+                          mae_ci=mae_ci, recall=recall, object_balanced_accuracy=object_ba,
+                          object_balanced_accuracy_ci=object_ba_ci,
                           fit_predict_seconds=seconds_once[name] + float(sum(o["time"] for o in rows)),
                           n_folds=cv, n_repeats=n_repeats,
                           predict_proba_samples=hasattr(named[name], "predict_proba_samples"),
                           error="; ".join(errors) or None))
-    base = fold_scores.get("peak_change")
+    base, object_base = fold_scores.get("peak_change"), object_fold_scores.get("peak_change")
     for row in table:
+        own = row["pipeline"] == "peak_change"
         row["vs_baseline"], row["vs_baseline_ci"] = _paired_difference(
-            fold_scores[row["pipeline"]], None if row["pipeline"] == "peak_change" else base,
-            test_train_ratio, cv - 1)
+            fold_scores[row["pipeline"]], None if own else base, test_train_ratio, cv - 1)
+        row["object_vs_baseline"], row["object_vs_baseline_ci"] = _paired_difference(
+            object_fold_scores[row["pipeline"]], None if own else object_base, test_train_ratio, cv - 1)
     recommended, with_samples = _recommend(table)
-    return Bunch(table=table, fold_scores=fold_scores, predictions=predictions, confusion=confusion,
+    return Bunch(table=table, fold_scores=fold_scores, object_fold_scores=object_fold_scores,
+                 predictions=predictions, confusion=confusion,
                  recommended=recommended, recommended_with_samples=with_samples,
                  target=y, target_names=names, groups=groups, folds=[test for _, test in folds],
                  n_repeats=n_repeats, chance=1.0 / n_classes, hardness_unit=getattr(data, "hardness_unit", None),
@@ -595,7 +633,8 @@ def format_evaluation(result):
     text : str
         One line per pipeline: balanced accuracy with its 95% interval over
         folds, hardness MAE, time, and the margin over the one-number
-        baseline; then each pipeline's recall per class, the notes on the
+        baseline; then the balanced accuracy and margin per object (where
+        some object has several presses), each pipeline's recall per class, the notes on the
         presses (``notes``: contact found, the optical flow's corners,
         loading phases missing) and the recommendation.
     """
@@ -619,10 +658,34 @@ def format_evaluation(result):
                      f"{mae:>6} {delta:>22} {r['fit_predict_seconds']:>8.1f}")
         if r["error"]:
             lines.append(f"  error: {r['error']}")
+    lines += _object_lines(result, width)
     lines += _recall_lines(result, width)
     lines += [f"data: {note}" for note in getattr(result, "notes", ())]
     lines += _recommendation_lines(result)
     return "\n".join(lines)
+
+
+def _object_lines(result, width):
+    """Balanced accuracy over the test objects, each classed by the mean of its presses' probabilities.
+
+    Nothing when every object has one press (the figures are those above).
+    """
+    rows = [r for r in result.table if r.get("object_balanced_accuracy") is not None]
+    _, presses = np.unique(result.groups, return_counts=True)
+    if not rows or presses.max() == 1:
+        return []
+    lines = [f"per object: each test object classed by the mean of its presses' predicted probabilities "
+             f"(their votes without predict_proba; {len(presses)} objects, median {np.median(presses):g} "
+             "presses each); same folds and intervals"]
+    for r in rows:
+        lo, hi = r["object_balanced_accuracy_ci"]
+        delta = ""
+        if r.get("object_vs_baseline") is not None:
+            d_lo, d_hi = r["object_vs_baseline_ci"]
+            delta = f"{r['object_vs_baseline']:+.2f} [{d_lo:+.2f}, {d_hi:+.2f}]"
+        lines.append(f"{r['pipeline']:<{width}} {r['object_balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]{'':<7} "
+                     f"{'':>6} {delta:>22}".rstrip())
+    return lines
 
 
 def _recall_lines(result, width):
