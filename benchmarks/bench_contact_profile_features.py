@@ -23,8 +23,12 @@ The last two rows are what a press *holds*, not what a pipeline reaches:
 the first is what three quantities an ideal reader of the gel would measure
 give with the same head (in the simulator's physics; a reader of their whole
 course might get more), the second what force and displacement tell.
-Beside them, how well each video feature measures its ideal counterpart
-(Spearman correlation over the presses with contact).
+A second table gives the same per object: each fold's test objects, each
+classed by the mean of its presses' probabilities from the same fits (the
+rule of ``evaluate``'s ``per object`` block), so that it says what several
+presses of a new object tell. Beside them, how well each video feature
+measures its ideal counterpart (Spearman correlation over the presses with
+contact).
 
 ``--heads`` adds a third table: the twelve features with other heads on the
 same folds (standardised features; balanced class weights throughout): the
@@ -71,6 +75,7 @@ from _output import report
 from _sim_variants import VARIANTS, variant_params
 from bench_sim_vs_real_stats import parse_param, press_objects
 from sklearn_hardness._experiment_names import CONTACT_PROFILE_3_FEATURES
+from sklearn_hardness.experiments._evaluate import _class_proba, _per_object
 from sklearn_hardness.features._contact_profile import FEATURE_NAMES
 
 ROWS = ("one number (peak change)", "contact profile, first 10 features", "contact profile, 12 features",
@@ -119,11 +124,32 @@ def ideal_features(data):
     return np.asarray(rows)
 
 
-def scores(X, y, folds, model=None):
-    """Balanced accuracy per fold of ``model`` (default: a balanced logistic regression) on standardised ``X``."""
+def _fitted(X, y, folds, model):
+    """Per fold: its test presses and ``model`` (default: a balanced logistic regression) fitted on standardised X."""
     model = make_pipeline(StandardScaler(), model if model is not None else LogisticRegression(
         max_iter=2000, class_weight="balanced"))
-    return [balanced_accuracy_score(y[te], model.fit(X[tr], y[tr]).predict(X[te])) for tr, te in folds]
+    for tr, te in folds:
+        yield te, model.fit(X[tr], y[tr])
+
+
+def scores(X, y, folds, model=None):
+    """Balanced accuracy per fold of ``model`` (default: a balanced logistic regression) on standardised ``X``."""
+    return [balanced_accuracy_score(y[te], fitted.predict(X[te])) for te, fitted in _fitted(X, y, folds, model)]
+
+
+def press_and_object_scores(X, y, groups, folds):
+    """Balanced accuracy per fold of the logistic regression over the test presses, and over the test objects.
+
+    An object's class is that of the mean of its presses' probabilities, the rule of ``evaluate``'s
+    ``per object`` block.
+    """
+    press, objects = [], []
+    for te, fitted in _fitted(X, y, folds, None):
+        pred = fitted.predict(X[te])
+        press.append(balanced_accuracy_score(y[te], pred))
+        object_y, object_pred = _per_object(_class_proba(fitted, X[te], pred, int(y.max()) + 1), y[te], groups[te])
+        objects.append(balanced_accuracy_score(object_y, object_pred))
+    return press, objects
 
 
 def heads(seed):
@@ -200,14 +226,16 @@ def run_seed(seed, overrides, n_jobs, with_heads=False, with_net_inputs=False):
     contact = np.isfinite(ideal).all(axis=1)
     # presses without contact: the ideal rows are scored on the presses with contact of each test fold
     ideal_folds = [(tr[contact[tr]], te[contact[te]]) for tr, te in folds]
-    out = {
-        ROWS[0]: scores(V[:, :1], y, folds),
-        ROWS[1]: scores(V[:, 1:11], y, folds),
-        ROWS[2]: scores(V[:, 1:], y, folds),
-        ROWS[3]: scores(V[:, [1 + FEATURE_NAMES.index(n) for n in THREE]], y, folds),
-        ROWS[4]: scores(np.nan_to_num(ideal[:, :3]), y, ideal_folds),
-        ROWS[5]: scores(np.nan_to_num(ideal[:, 3:]), y, ideal_folds),
+    both = {
+        ROWS[0]: press_and_object_scores(V[:, :1], y, groups, folds),
+        ROWS[1]: press_and_object_scores(V[:, 1:11], y, groups, folds),
+        ROWS[2]: press_and_object_scores(V[:, 1:], y, groups, folds),
+        ROWS[3]: press_and_object_scores(V[:, [1 + FEATURE_NAMES.index(n) for n in THREE]], y, groups, folds),
+        ROWS[4]: press_and_object_scores(np.nan_to_num(ideal[:, :3]), y, groups, ideal_folds),
+        ROWS[5]: press_and_object_scores(np.nan_to_num(ideal[:, 3:]), y, groups, ideal_folds),
     }
+    out = {name: press for name, (press, _) in both.items()}
+    per_object = {name: float(np.mean(objects)) for name, (_, objects) in both.items()}
     head_scores = {}
     if with_heads:
         head_scores = {name: float(np.mean(scores(V[:, 1:], y, folds, model)))
@@ -225,7 +253,7 @@ def run_seed(seed, overrides, n_jobs, with_heads=False, with_net_inputs=False):
             "loading time ~ rise_frames": spearmanr(ideal[c, 2], V[c, 3])[0],
             "loading time ~ log_loading_time": spearmanr(ideal[c, 2], V[c, 11])[0]}
     return ({k: float(np.mean(v)) for k, v in out.items()}, corr, int(contact.sum()), len(y), head_scores,
-            net_scores)
+            net_scores, per_object)
 
 
 def mean_table(first, seeds, names, per_seed):
@@ -257,6 +285,9 @@ def main(argv=None):
              f"{f', overrides {overrides}' if overrides else ''}: balanced accuracy, object-disjoint 5 folds, "
              "balanced logistic regression (chance 0.33)", ""]
     lines += mean_table("input", args.seeds, ROWS, [r[0] for r in results])
+    lines += ["", "The same per object: each test object classed by the mean of its presses' probabilities "
+              "(evaluate's per-object rule; same folds and fits)", ""]
+    lines += mean_table("input", args.seeds, ROWS, [r[6] for r in results])
     lines += ["", "How well each video feature measures its ideal counterpart (Spearman, presses with contact)", "",
               "| feature ~ ideal | " + " | ".join(f"seed {s}" for s in args.seeds) + " |",
               "|---" * (len(args.seeds) + 1) + "|"]
