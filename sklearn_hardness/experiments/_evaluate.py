@@ -634,9 +634,9 @@ def format_evaluation(result):
         One line per pipeline: balanced accuracy with its 95% interval over
         folds, hardness MAE, time, and the margin over the one-number
         baseline; then the balanced accuracy and margin per object (where
-        some object has several presses), each pipeline's recall per class, the notes on the
-        presses (``notes``: contact found, the optical flow's corners,
-        loading phases missing) and the recommendation.
+        some object has several presses), each pipeline's recall per class,
+        the notes on the presses (``notes``: contact found, the optical
+        flow's corners, loading phases missing) and the recommendation.
     """
     n_folds = result.table[0]["n_folds"] if result.table else 0
     n_repeats = getattr(result, "n_repeats", 1)
