@@ -143,7 +143,8 @@ def test_repeated_folds_reuse_the_objects_in_other_assignments(tiny):
     for name in ("peak_change", "dummy"):
         np.testing.assert_array_equal(result.fold_scores[name][:3], once.fold_scores[name])
         np.testing.assert_array_equal(result.predictions[name], once.predictions[name])
-        assert result.fold_scores[name].shape == (9,)
+        assert result.fold_scores[name].shape == result.object_fold_scores[name].shape == (9,)
+        np.testing.assert_array_equal(result.object_fold_scores[name][:3], once.object_fold_scores[name])
         assert result.confusion[name].sum() == 3 * n  # every press once per repetition
     rows = {r["pipeline"]: r for r in result.table}
     assert rows["dummy"]["n_folds"] == 3 and rows["dummy"]["n_repeats"] == 3
@@ -152,13 +153,15 @@ def test_repeated_folds_reuse_the_objects_in_other_assignments(tiny):
     # recommended 1.5x as often as promised, benchmarks/bench_margin_interval.py --n-repeats 5)
     ratio = np.mean([len(test) / (n - len(test)) for test in result.folds])
     t = stats.t.ppf(0.975, 2)
-    for values, (m, (lo, hi)) in [
-        (result.fold_scores["dummy"], (rows["dummy"]["balanced_accuracy"], rows["dummy"]["balanced_accuracy_ci"])),
-        (result.fold_scores["dummy"] - result.fold_scores["peak_change"],
+    for values, bound, (m, (lo, hi)) in [  # bound: each interval is clipped to its score's range
+        (result.fold_scores["dummy"], 0,
+         (rows["dummy"]["balanced_accuracy"], rows["dummy"]["balanced_accuracy_ci"])),
+        (result.fold_scores["dummy"] - result.fold_scores["peak_change"], -1,
          (rows["dummy"]["vs_baseline"], rows["dummy"]["vs_baseline_ci"])),
+        (result.object_fold_scores["dummy"], 0,
+         (rows["dummy"]["object_balanced_accuracy"], rows["dummy"]["object_balanced_accuracy_ci"])),
     ]:
         half = t * np.sqrt(values.var(ddof=1) * (1 / 9 + ratio))
-        bound = 0 if values is result.fold_scores["dummy"] else -1  # clipped to the score's range
         assert (m, lo, hi) == pytest.approx((values.mean(), max(values.mean() - half, bound),
                                              min(values.mean() + half, 1)))
     assert "object-disjoint 3-fold CV x 3 repetitions, 12 objects" in format_evaluation(result)
