@@ -7,7 +7,7 @@ import pytest
 from scipy import stats
 from sklearn.base import BaseEstimator, ClassifierMixin, clone
 from sklearn.dummy import DummyClassifier
-from sklearn.pipeline import make_pipeline
+from sklearn.pipeline import Pipeline, make_pipeline
 from sklearn.preprocessing import FunctionTransformer
 from sklearn.utils import Bunch
 
@@ -509,13 +509,15 @@ def test_per_press_steps_run_once_for_all_folds_with_the_same_results(tiny, monk
         return original(self, X, y, **params)
 
     monkeypatch.setattr(ContactProfileFeatures, "fit_transform", counting)
-    names = ["contact_profile", "contact_profile_nn", "ofnn"]
+    names = ["contact_profile", "contact_profile_nn", "contact_profile_3", "ofnn"]
     once = evaluate_pipelines(tiny, names, cv=3, verbose=0)
-    assert calls == [len(tiny.target)]  # every press once, for both contact-profile pipelines and all folds
+    # every press once, for the three contact-profile pipelines (contact_profile_3 takes its three columns
+    # of the twelve) and all folds
+    assert calls == [len(tiny.target)]
     calls.clear()
     monkeypatch.setattr(_evaluate, "split_per_press", lambda est: (None, est))  # each fold computes its own
     per_fold = evaluate_pipelines(tiny, names, cv=3, verbose=0)
-    assert len(calls) == 6  # one pass per fold and pipeline
+    assert len(calls) == 9  # one pass per fold and pipeline
     for name in ["peak_change", *names]:
         np.testing.assert_array_equal(once.predictions[name], per_fold.predictions[name])
         np.testing.assert_array_equal(once.fold_scores[name], per_fold.fold_scores[name])
@@ -540,6 +542,27 @@ def test_per_press_pass_gives_the_nets_the_same_inputs(tiny, monkeypatch):
     for name in ("convlstm", "dinov2nn"):
         np.testing.assert_array_equal(once.predictions[name], per_fold.predictions[name])
         np.testing.assert_array_equal(once.fold_scores[name], per_fold.fold_scores[name])
+
+
+def test_all_columns_shares_a_contact_profile_pass_only_where_columns_can_be_taken():
+    from sklearn_hardness.experiments._per_press import all_columns, prefix_key, split_per_press
+    from sklearn_hardness.features import ContactProfileFeatures
+    from sklearn_hardness.models import make_contact_profile_pipeline
+
+    twelve, _ = split_per_press(make_contact_profile_pipeline())
+    three, _ = split_per_press(make_contact_profile_pipeline(
+        features=["log_contact_spread", "log_peak_change"], max_side=80))
+    every, columns = all_columns(three)
+    assert columns == [11, 0] and prefix_key(every) == prefix_key(twelve)  # its order, from one shared pass
+    assert three.steps[-1][1].features == ["log_contact_spread", "log_peak_change"]  # not modified in place
+    assert all_columns(twelve) == (twelve, None)
+    # another max_side is another pass; a name the step refuses keeps its own pass, which fails as before
+    other, _ = all_columns(split_per_press(make_contact_profile_pipeline(features=["log_peak_change"],
+                                                                         max_side=40))[0])
+    assert prefix_key(other) != prefix_key(twelve)
+    for features in (["no_such_feature"], ["log_peak_change"] * 2):
+        refused = Pipeline([("features", ContactProfileFeatures(features=features))])
+        assert all_columns(refused) == (refused, None)
 
 
 def test_split_per_press_stops_at_the_first_step_that_learns():

@@ -37,7 +37,7 @@ from ..utils._validation import check_roi
 from ._force_position import force_position, presses_lacking_force_position
 from ._models import NAMED_CHOICES
 from ._peak_baseline import make_peak_change_baseline
-from ._per_press import describe, prefix_key, split_per_press, transform_per_press
+from ._per_press import all_columns, describe, prefix_key, split_per_press, transform_per_press
 from ._runner import ProgressLog
 
 __all__ = [
@@ -135,7 +135,9 @@ def _per_press_inputs(named, X, n_jobs, log):
     the notes on the presses that the passes found (:func:`_contact_note`,
     :func:`_flow_note`; one for the pipelines whose steps found the same on
     every press).
-    Pipelines with the same leading steps share one pass. Where a pass
+    Pipelines with the same leading steps share one pass, and so do
+    contact-profile steps that differ only in the features they output
+    (:func:`all_columns`: each pipeline takes its columns). Where a pass
     fails (a video its steps cannot read), its pipelines run whole in every
     fold, where ``error_score`` decides.
     """
@@ -145,17 +147,18 @@ def _per_press_inputs(named, X, n_jobs, log):
         prefix, rest = split_per_press(est)
         inputs[name], rests[name], seconds[name] = X, est, 0.0
         if prefix is not None:
-            passes.setdefault(prefix_key(prefix), (prefix, []))[1].append((name, rest))
+            prefix, columns = all_columns(prefix)
+            passes.setdefault(prefix_key(prefix), (prefix, []))[1].append((name, rest, columns))
     contacts, flows = [], []  # (what a pass found on every press, the pipelines whose pass found it)
     for prefix, users in passes.values():
-        log.write(f"{describe(prefix)} of every press, once for all folds ({', '.join(name for name, _ in users)})")
+        log.write(f"{describe(prefix)} of every press, once for all folds ({', '.join(user[0] for user in users)})")
         try:
             Xt, once, found = transform_per_press(prefix, X, n_jobs=n_jobs)
         except Exception:  # noqa: BLE001 - the folds run the whole pipelines and report it
             continue
-        for name, rest in users:
-            inputs[name], rests[name], seconds[name] = Xt, rest, once
-        names = [name for name, _ in users]
+        for name, rest, columns in users:
+            inputs[name], rests[name], seconds[name] = (Xt if columns is None else Xt[:, columns]), rest, once
+        names = [name for name, _, _ in users]
         if "contact_status" in found:
             _merge(contacts, (found["contact_status"],), names)
         if "flow_corners" in found:

@@ -27,10 +27,12 @@ from sklearn.preprocessing import FunctionTransformer
 from sklearn.utils import _safe_indexing
 
 from ..features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
+from ..features._common import check_feature_names
+from ..features._contact_profile import FEATURE_NAMES
 from ..preprocessing import ContactFrameSelector
 from ._peak_baseline import peak_contact_change
 
-__all__ = ["describe", "prefix_key", "split_per_press", "transform_per_press"]
+__all__ = ["all_columns", "describe", "prefix_key", "split_per_press", "transform_per_press"]
 
 #: Exact classes (not subclasses, whose ``fit`` may learn) that map each press by itself.
 _PER_PRESS_TYPES = (ContactFrameSelector, ContactProfileFeatures, OpticalFlowFeatures, DINOv2Features)
@@ -73,6 +75,28 @@ def describe(prefix):
     """The steps of ``prefix`` by name, e.g. ``"ContactFrameSelector -> OpticalFlowFeatures"``."""
     return " -> ".join(step.func.__name__ if type(step) is FunctionTransformer else type(step).__name__
                        for _, step in prefix.steps)
+
+
+def all_columns(prefix):
+    """``prefix`` with its closing contact-profile step giving all its columns, and the columns it gave.
+
+    :class:`~sklearn_hardness.features.ContactProfileFeatures` computes all
+    its features and outputs those ``features`` names, so prefixes that
+    differ only in that choice can share one pass and each take its
+    columns. Returns ``(prefix, None)`` unchanged where the last step is not
+    that class, outputs all columns already, or names features the step's
+    own check refuses (its pass then fails as it would have).
+    """
+    step = prefix.steps[-1][1]
+    if type(step) is not ContactProfileFeatures or isinstance(step.features, str):
+        return prefix, None
+    try:
+        names = check_feature_names(step.features, FEATURE_NAMES)
+    except (TypeError, ValueError):
+        return prefix, None
+    every = clone(prefix)
+    every.steps[-1][1].set_params(features="all")
+    return every, [FEATURE_NAMES.index(name) for name in names]
 
 
 def prefix_key(prefix):
