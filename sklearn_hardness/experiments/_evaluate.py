@@ -151,14 +151,14 @@ def _per_press_inputs(named, X, n_jobs, log):
             passes.setdefault(prefix_key(prefix), (prefix, []))[1].append((name, rest, columns))
     contacts, flows = [], []  # (what a pass found on every press, the pipelines whose pass found it)
     for prefix, users in passes.values():
-        log.write(f"{describe(prefix)} of every press, once for all folds ({', '.join(user[0] for user in users)})")
+        names = [name for name, _, _ in users]
+        log.write(f"{describe(prefix)} of every press, once for all folds ({', '.join(names)})")
         try:
             Xt, once, found = transform_per_press(prefix, X, n_jobs=n_jobs)
         except Exception:  # noqa: BLE001 - the folds run the whole pipelines and report it
             continue
         for name, rest, columns in users:
             inputs[name], rests[name], seconds[name] = (Xt if columns is None else Xt[:, columns]), rest, once
-        names = [name for name, _, _ in users]
         if "contact_status" in found:
             _merge(contacts, (found["contact_status"],), names)
         if "flow_corners" in found:
@@ -651,14 +651,8 @@ def format_evaluation(result):
     lines.append(f"{'pipeline':<{width}} {'bal. accuracy [95% CI]':<24} {'MAE':>6} {'vs peak [95% CI]':>22} "
                  f"{'time s':>8}")
     for r in result.table:
-        lo, hi = r["balanced_accuracy_ci"]
         mae = "-" if r["mae"] is None else f"{r['mae']:.2f}"
-        delta = ""
-        if r.get("vs_baseline") is not None:
-            d_lo, d_hi = r["vs_baseline_ci"]
-            delta = f"{r['vs_baseline']:+.2f} [{d_lo:+.2f}, {d_hi:+.2f}]"
-        lines.append(f"{r['pipeline']:<{width}} {r['balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]{'':<7} "
-                     f"{mae:>6} {delta:>22} {r['fit_predict_seconds']:>8.1f}")
+        lines.append(f"{_score_cells(r, width)} {mae:>6} {_margin_cell(r)} {r['fit_predict_seconds']:>8.1f}")
         if r["error"]:
             lines.append(f"  error: {r['error']}")
     lines += _object_lines(result, width)
@@ -681,14 +675,23 @@ def _object_lines(result, width):
              f"(their votes without predict_proba; {len(presses)} objects, median {np.median(presses):g} "
              "presses each); same folds and intervals"]
     for r in rows:
-        lo, hi = r["object_balanced_accuracy_ci"]
-        delta = ""
-        if r.get("object_vs_baseline") is not None:
-            d_lo, d_hi = r["object_vs_baseline_ci"]
-            delta = f"{r['object_vs_baseline']:+.2f} [{d_lo:+.2f}, {d_hi:+.2f}]"
-        lines.append(f"{r['pipeline']:<{width}} {r['object_balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]{'':<7} "
-                     f"{'':>6} {delta:>22}".rstrip())
+        lines.append(f"{_score_cells(r, width, 'object_')} {'':>6} {_margin_cell(r, 'object_')}".rstrip())
     return lines
+
+
+def _score_cells(row, width, prefix=""):
+    """The pipeline's name and its balanced accuracy with the 95% interval (``prefix``: ``"object_"`` per object)."""
+    lo, hi = row[f"{prefix}balanced_accuracy_ci"]
+    return f"{row['pipeline']:<{width}} {row[f'{prefix}balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]{'':<7}"
+
+
+def _margin_cell(row, prefix=""):
+    """The margin over the one-number baseline with its 95% interval, blank for the baseline itself."""
+    delta = ""
+    if row.get(f"{prefix}vs_baseline") is not None:
+        d_lo, d_hi = row[f"{prefix}vs_baseline_ci"]
+        delta = f"{row[f'{prefix}vs_baseline']:+.2f} [{d_lo:+.2f}, {d_hi:+.2f}]"
+    return f"{delta:>22}"
 
 
 def _recall_lines(result, width):

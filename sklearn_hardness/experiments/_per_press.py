@@ -27,8 +27,7 @@ from sklearn.preprocessing import FunctionTransformer
 from sklearn.utils import _safe_indexing
 
 from ..features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
-from ..features._common import check_feature_names
-from ..features._contact_profile import FEATURE_NAMES
+from ..features._contact_profile import feature_columns
 from ..preprocessing import ContactFrameSelector
 from ._peak_baseline import peak_contact_change
 
@@ -91,12 +90,12 @@ def all_columns(prefix):
     if type(step) is not ContactProfileFeatures or isinstance(step.features, str):
         return prefix, None
     try:
-        names = check_feature_names(step.features, FEATURE_NAMES)
+        columns = feature_columns(step.features)
     except (TypeError, ValueError):
         return prefix, None
     every = clone(prefix)
     every.steps[-1][1].set_params(features="all")
-    return every, [FEATURE_NAMES.index(name) for name in names]
+    return every, columns
 
 
 def prefix_key(prefix):

@@ -34,6 +34,14 @@ FEATURE_NAMES = (
 )
 
 
+def feature_columns(features):
+    """The columns of :data:`FEATURE_NAMES` that ``features`` names (``"all"``: every one), checked.
+
+    Raises the errors of :func:`~._common.check_feature_names` for names it refuses.
+    """
+    return [FEATURE_NAMES.index(name) for name in check_feature_names(features, FEATURE_NAMES)]
+
+
 def _grey_small(video, max_side, roi=None, name="video"):
     video = check_video(video, min_frames=1, name=name)
     rows, cols = roi_slices(video.shape[1:3], roi, name)  # the whole frame for roi=None
@@ -255,7 +263,7 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         roi = check_roi(self.roi)
         rows = Parallel(n_jobs=self.n_jobs, prefer="threads")(
             delayed(_profile)(X[i], self.max_side, self.noise_factor, roi, f"video {i}") for i in range(len(X)))
-        return np.vstack(rows)[:, [FEATURE_NAMES.index(f) for f in self.features_]]
+        return np.vstack(rows)[:, feature_columns(self.features_)]
 
     def get_feature_names_out(self, input_features=None):
         """Names of the features.
