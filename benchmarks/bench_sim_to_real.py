@@ -137,6 +137,11 @@ def feature_subsets(videos, target, groups, real, rl, hardness, say=print):
     return result
 
 
+def seed_row(label, rights, total, last):
+    """A row of the ``--each-seed`` tables: pairs ordered right per simulated set, their mean, and ``last``."""
+    return f"| {label} | " + " | ".join(f"{r}/{total}" for r in rights) + f" | {np.mean(rights):.1f} | {last} |"
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data", required=True, help="EstimateModulus example_data folder")
@@ -227,8 +232,7 @@ def main():
             + f" | mean | sets with {total}/{total} |")
         say("|---|" + "---|" * (len(args.sim_seeds) + 2))
         for name, rights in right_per_training.items():
-            say(f"| {name} | " + " | ".join(f"{r}/{total}" for r in rights)
-                + f" | {np.mean(rights):.1f} | {sum(r == total for r in rights)} of {len(rights)} |")
+            say(seed_row(name, rights, total, f"{sum(r == total for r in rights)} of {len(rights)}"))
         if subsets_per_training:
             say(f"\nContactProfileFeatures subsets (balanced logistic regression): within-family pairs ordered "
                 f"right (of {total}) per simulated set, and the mean object-disjoint balanced accuracy on them")
@@ -238,8 +242,7 @@ def main():
             for subset in subsets_per_training[0]:
                 rights = [per[subset][0] for per in subsets_per_training]
                 accs = [per[subset][1] for per in subsets_per_training]
-                say(f"| {subset} | " + " | ".join(f"{r}/{total}" for r in rights)
-                    + f" | {np.mean(rights):.1f} | {np.mean(accs):.3f} |")
+                say(seed_row(subset, rights, total, f"{np.mean(accs):.3f}"))
     say(f"\ntotal {time.perf_counter() - t0:.0f} s")
     if args.out:
         write_output(args.out, "\n".join(out))
