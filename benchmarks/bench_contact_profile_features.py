@@ -76,6 +76,7 @@ from _sim_variants import VARIANTS, variant_params
 from bench_sim_vs_real_stats import parse_param, press_objects
 from sklearn_hardness._experiment_names import CONTACT_PROFILE_3_FEATURES
 from sklearn_hardness.experiments._evaluate import _class_proba, _per_object
+from sklearn_hardness.features._common import feature_columns
 from sklearn_hardness.features._contact_profile import FEATURE_NAMES
 
 ROWS = ("one number (peak change)", "contact profile, first 10 features", "contact profile, 12 features",
@@ -230,7 +231,7 @@ def run_seed(seed, overrides, n_jobs, with_heads=False, with_net_inputs=False):
         ROWS[0]: press_and_object_scores(V[:, :1], y, groups, folds),
         ROWS[1]: press_and_object_scores(V[:, 1:11], y, groups, folds),
         ROWS[2]: press_and_object_scores(V[:, 1:], y, groups, folds),
-        ROWS[3]: press_and_object_scores(V[:, [1 + FEATURE_NAMES.index(n) for n in THREE]], y, groups, folds),
+        ROWS[3]: press_and_object_scores(V[:, 1 + np.array(feature_columns(THREE, FEATURE_NAMES))], y, groups, folds),
         ROWS[4]: press_and_object_scores(np.nan_to_num(ideal[:, :3]), y, groups, ideal_folds),
         ROWS[5]: press_and_object_scores(np.nan_to_num(ideal[:, 3:]), y, groups, ideal_folds),
     }

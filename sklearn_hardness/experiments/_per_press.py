@@ -27,7 +27,8 @@ from sklearn.preprocessing import FunctionTransformer
 from sklearn.utils import _safe_indexing
 
 from ..features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
-from ..features._contact_profile import feature_columns
+from ..features._common import feature_columns
+from ..features._contact_profile import FEATURE_NAMES
 from ..preprocessing import ContactFrameSelector
 from ._peak_baseline import peak_contact_change
 
@@ -90,7 +91,7 @@ def all_columns(prefix):
     if type(step) is not ContactProfileFeatures or isinstance(step.features, str):
         return prefix, None
     try:
-        columns = feature_columns(step.features)
+        columns = feature_columns(step.features, FEATURE_NAMES)
     except (TypeError, ValueError):
         return prefix, None
     every = clone(prefix)

@@ -68,3 +68,11 @@ def check_feature_names(features, known):
         raise ValueError(f"features must be 'all' or a non-empty sequence of distinct names from {list(known)}; "
                          f"{problem}.")
     return features
+
+
+def feature_columns(features, known):
+    """The positions in ``known`` of the columns a ``features`` parameter names, in its order.
+
+    Checked as :func:`check_feature_names` checks them (and raising its errors).
+    """
+    return [known.index(name) for name in check_feature_names(features, known)]

@@ -13,7 +13,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
-from ._common import check_feature_names
+from ._common import check_feature_names, feature_columns
 
 __all__ = ["ContactProfileFeatures"]
 
@@ -32,14 +32,6 @@ FEATURE_NAMES = (
     "log_loading_time",
     "log_contact_spread",
 )
-
-
-def feature_columns(features):
-    """The columns of :data:`FEATURE_NAMES` that ``features`` names (``"all"``: every one), checked.
-
-    Raises the errors of :func:`~._common.check_feature_names` for names it refuses.
-    """
-    return [FEATURE_NAMES.index(name) for name in check_feature_names(features, FEATURE_NAMES)]
 
 
 def _grey_small(video, max_side, roi=None, name="video"):
@@ -263,7 +255,7 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         roi = check_roi(self.roi)
         rows = Parallel(n_jobs=self.n_jobs, prefer="threads")(
             delayed(_profile)(X[i], self.max_side, self.noise_factor, roi, f"video {i}") for i in range(len(X)))
-        return np.vstack(rows)[:, feature_columns(self.features_)]
+        return np.vstack(rows)[:, feature_columns(self.features_, FEATURE_NAMES)]
 
     def get_feature_names_out(self, input_features=None):
         """Names of the features.

@@ -13,7 +13,7 @@ from sklearn.utils.validation import check_is_fitted
 from ..utils._tags import force_position_tags
 from ..utils._validation import check_force_position
 from ..utils._warnings import external_stacklevel
-from ._common import check_feature_names
+from ._common import check_feature_names, feature_columns
 
 __all__ = ["LoadingCompliance"]
 
@@ -175,7 +175,7 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
         presses = check_force_position(X)
         rows = np.vstack([_loading_figures(p, self.onset, self.min_loading_frames, self.drive_compliance)
                           for p in presses])
-        out = rows[:, [FEATURE_NAMES.index(f) for f in self.features_]]
+        out = rows[:, feature_columns(self.features_, FEATURE_NAMES)]
         bad = np.flatnonzero(np.isnan(out).any(axis=1))
         if len(bad):
             shown = ", ".join(map(str, bad[:10])) + (", ..." if len(bad) > 10 else "")
