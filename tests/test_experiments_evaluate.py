@@ -441,7 +441,8 @@ def test_progress_on_stderr_when_verbose(tiny, capsys):
     lines = captured.err.splitlines()
     assert lines[0].startswith("evaluate: 2 pipeline(s) (peak_change, dummy) x 3 object-disjoint folds")
     assert lines[1] == "evaluate: peak_contact_change of every press, once for all folds (peak_change)"
-    done = [int(m) for m in re.findall(r"^evaluate: (\d)/6 fits, \d+s elapsed, about \d+s left$",
+    done = [int(m) for m in re.findall(r"^evaluate: (\d)/6 fits, \d+s elapsed, about \d+s left(?:, not counting "
+                                       r"dummy \(no fit finished yet\))?$",
                                        captured.err, flags=re.M)]
     assert done == [1, 2, 3, 4, 5, 6] and captured.out == ""
     evaluate_pipelines(tiny, dummy, cv=3, verbose=0)
@@ -773,3 +774,60 @@ def test_flow_note_counts_the_corners_and_lost_tracks_of_every_press(tiny):
         f"their rows are those of a press without motion; {lost.sum() / corners.sum():.0%} of the tracks lost "
         f"before the last frame (on {(lost > 0).sum()} of {n} presses)")
     assert len(result.notes) == 2 and f"data: {result.notes[1]}" in format_evaluation(result)
+
+
+class _SlowDummy(DummyClassifier):
+    """A most-frequent classifier whose fit takes ``seconds`` and leaves a file named by its process."""
+
+    def __init__(self, log_dir=None, seconds=0.3):
+        super().__init__(strategy="most_frequent")
+        self.log_dir, self.seconds = log_dir, seconds
+
+    def fit(self, X, y):
+        import os
+        import time
+        import uuid
+        from pathlib import Path
+
+        time.sleep(self.seconds)
+        if self.log_dir is not None:
+            (Path(self.log_dir) / f"{os.getpid()}_{uuid.uuid4().hex}").touch()
+        return super().fit(X, y)
+
+
+def test_slow_fits_are_shared_among_the_workers(tiny, tmp_path):
+    # 24 quick fits and 6 slow ones on 2 workers: joblib's automatic batching, timed on the quick ones,
+    # queued 4 to 6 of the slow fits in one batch on one worker; one fit to a task shares them
+    quick = {f"quick_{i}": DummyClassifier(strategy="prior") for i in range(3)}
+    result = evaluate_pipelines(tiny, {**quick, "slow": _SlowDummy(tmp_path)}, cv=3, n_repeats=2, n_jobs=2,
+                                verbose=0)
+    assert result.table[-1]["error"] is None
+    pids = [p.name.split("_")[0] for p in tmp_path.iterdir()]
+    assert len(pids) == 6
+    assert max(pids.count(p) for p in set(pids)) <= 3, pids
+
+
+def test_seconds_left_times_each_pipeline_by_its_own_fits():
+    from sklearn_hardness.experiments._evaluate import _seconds_left
+
+    # the baseline's 5 fits took 0.01 s each, the net's first of 5 took 70 s: 4 net fits of 70 s on 2 workers
+    # (the mean over every finished fit would say 71 s / 6 fits x 4 fits left, under a minute)
+    fits = {"peak_change": [0.01] * 5, "convlstm": [70.0]}
+    assert _seconds_left(fits, 5, n_workers=2) == (pytest.approx(140.0), [])
+    # one fit left: as long as that fit, however many workers
+    assert _seconds_left({"convlstm": [70.0] * 4}, 5, n_workers=2) == (pytest.approx(70.0), [])
+    # a pipeline with no finished fit has no time: it is named, not guessed
+    fits = {"peak_change": [0.01] * 2, "convlstm": [], "ofnn": [3.0]}
+    assert _seconds_left(fits, 5, n_workers=2) == (pytest.approx(0.03 / 2 + 12.0 / 2), ["convlstm"])
+    assert _seconds_left({"a": [1.0] * 5, "b": []}, 5, n_workers=2) == (0.0, ["b"])
+
+
+def test_progress_names_the_pipelines_not_timed_yet(tiny, capsys):
+    import re
+
+    evaluate_pipelines(tiny, {"slow": _SlowDummy(None, seconds=0.0)}, cv=3, verbose=1, n_jobs=1)
+    lines = [line for line in capsys.readouterr().err.splitlines() if " fits, " in line]
+    # fold by fold: the baseline's first fit ends before any of slow's
+    assert re.fullmatch(r"evaluate: 1/6 fits, \d+s elapsed, about \d+s left, not counting slow "
+                        r"\(no fit finished yet\)", lines[0])
+    assert all(line.endswith(" left") for line in lines[1:]) and len(lines) == 6

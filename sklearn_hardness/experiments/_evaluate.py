@@ -16,7 +16,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from joblib import Parallel, delayed
+from joblib import Parallel, delayed, effective_n_jobs
 from scipy import stats
 from sklearn.base import clone
 from sklearn.metrics import ConfusionMatrixDisplay, balanced_accuracy_score, confusion_matrix
@@ -283,6 +283,23 @@ def _indexed(j, func, *args):
     return j, func(*args)
 
 
+def _seconds_left(fit_seconds, n_fits, n_workers):
+    """Estimated seconds until every timed pipeline has its ``n_fits`` fits, and the pipelines not timed yet.
+
+    Each fit left counts as long as its pipeline's finished fits on average
+    (a net's fit can last a thousand of the baseline's). The estimate is the
+    longer of that work shared among ``n_workers`` and the longest fit left.
+    A pipeline with no finished fit has no time to go by: it is left out of
+    the estimate and named in the second value, for the line to say so.
+    """
+    left = [(n_fits - len(times), float(np.mean(times))) for times in fit_seconds.values()
+            if times and len(times) < n_fits]
+    untimed = [name for name, times in fit_seconds.items() if not times]
+    if not left:
+        return 0.0, untimed
+    return max(sum(n * t for n, t in left) / max(n_workers, 1), max(t for _, t in left)), untimed
+
+
 @validate_params(
     {
         "dataset": "no_validation",
@@ -401,7 +418,9 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         What a failing pipeline gives: raise, or warn and score the fold as
         this value (e.g. ``np.nan``); the table names the error.
     n_jobs : int or None, default=None
-        Folds run in parallel through joblib.
+        Folds run in parallel through joblib, one fit to a task (joblib's
+        automatic batching, misled by the baseline's quick fits, would queue
+        several of a net's fits on one worker while the others idle).
     random_state : int, RandomState instance or None, default=0
         Seed of the fold assignment, of a simulated dataset and of the nets
         of the pipelines given by name (so a run repeats exactly; pass
@@ -411,7 +430,11 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         presses, objects), then one line per finished fit with the fits
         done, the time elapsed and an estimate of the rest (the style of
         the experiment runner's progress, readable in a batch job's log
-        too). ``0`` is silent.
+        too). The estimate times each pipeline by its own finished fits,
+        as a net's fit can outlast the baseline's a thousandfold, and names
+        the pipelines it cannot time yet; the fits run fold by fold, so
+        every pipeline's first fit ends early.
+        ``0`` is silent.
 
     Returns
     -------
@@ -545,14 +568,20 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         if note is not None:
             notes.append(note)
             log.write(note)
-    jobs = [(name, rests[name], k) for name in named for k in range(len(folds))]
+    # fold by fold, so that each pipeline's first fit ends early and times the rest of its fits
+    jobs = [(name, rests[name], k) for k in range(len(folds)) for name in named]
     progress = ProgressLog(len(jobs), desc="evaluate", verbose=verbose, unit="fits")
+    fit_seconds, n_workers = {name: [] for name in named}, effective_n_jobs(n_jobs)
     outs = [None] * len(jobs)
     calls = (delayed(_indexed)(j, _fit_fold, name, est, inputs[name], y, groups, folds[k][0], folds[k][1],
                                hardness, error_score) for j, (name, est, k) in enumerate(jobs))
-    for j, out in Parallel(n_jobs=n_jobs, return_as="generator_unordered")(calls):
+    # one fit a batch: joblib's automatic batching, timed on the quick fits of the baseline, would
+    # otherwise queue several slow fits (a net's) in one batch on one worker while the others wait
+    for j, out in Parallel(n_jobs=n_jobs, return_as="generator_unordered", batch_size=1)(calls):
         outs[j] = out
-        progress.update(1)
+        fit_seconds[jobs[j][0]].append(out["time"])
+        seconds, untimed = _seconds_left(fit_seconds, len(folds), n_workers)
+        progress.update(1, seconds, f"not counting {', '.join(untimed)} (no fit finished yet)" if untimed else None)
     test_train_ratio = float(np.mean([len(test) / len(train) for train, test in folds]))
     table, fold_scores, object_fold_scores, predictions, confusion = [], {}, {}, {}, {}
     for name in named:

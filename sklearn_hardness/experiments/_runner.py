@@ -61,7 +61,8 @@ class ProgressLog:
 
     Unlike a progress bar it also reports when the output is a file or a
     pipe (a batch job's log); ``verbose=0`` silences it. The estimate is the
-    mean time per run finished in this call times the runs left.
+    mean time per run finished in this call times the runs left, unless the
+    caller, who may know the runs differ, passes its own to :meth:`update`.
 
     Parameters
     ----------
@@ -83,17 +84,25 @@ class ProgressLog:
         self._start = time.perf_counter()
         self._new = 0
 
-    def update(self, n=1):
-        """Count ``n`` finished runs and print a line."""
+    def update(self, n=1, seconds_left=None, note=None):
+        """Count ``n`` finished runs and print a line.
+
+        ``seconds_left``, where given, is printed as the estimate instead of
+        the mean time per run times the runs left; ``note``, where given,
+        follows the estimate after a comma.
+        """
         self.done += n
         self._new += n
         if not self.verbose:
             return
         elapsed = time.perf_counter() - self._start
         left = self.total - self.done
-        eta = elapsed / self._new * left if self._new else float("nan")
+        if seconds_left is not None:
+            eta = seconds_left
+        else:
+            eta = elapsed / self._new * left if self._new else float("nan")
         self.write(f"{self.done}/{self.total} {self.unit}, {_fmt_seconds(elapsed)} elapsed, "
-                   f"about {_fmt_seconds(eta)} left")
+                   f"about {_fmt_seconds(eta)} left" + (f", {note}" if note else ""))
 
     def write(self, message):
         """Print ``"desc: message"`` (unless ``verbose=0``)."""
