@@ -287,7 +287,7 @@ def _seconds_left(fit_seconds, n_fits, n_workers):
     """Estimated seconds until every timed pipeline has its ``n_fits`` fits, and the pipelines not timed yet.
 
     Each fit left counts as long as its pipeline's finished fits on average
-    (a net's fit can last a thousand of the baseline's). The estimate is the
+    (a net's fit can last a thousand times the baseline's). The estimate is the
     longer of that work shared among ``n_workers`` and the longest fit left.
     A pipeline with no finished fit has no time to go by: it is left out of
     the estimate and named in the second value, for the line to say so.
