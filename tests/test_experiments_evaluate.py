@@ -796,8 +796,8 @@ class _SlowDummy(DummyClassifier):
 
 
 def test_slow_fits_are_shared_among_the_workers(tiny, tmp_path):
-    # 24 quick fits and 6 slow ones on 2 workers: joblib's automatic batching, timed on the quick ones,
-    # queued 4 to 6 of the slow fits in one batch on one worker; one fit to a task shares them
+    # 24 quick fits and 6 slow ones on 2 workers: joblib's automatic batching, timed on the quick ones, put
+    # four of the six slow fits on one worker in each of three tries; one fit to a task shares them
     quick = {f"quick_{i}": DummyClassifier(strategy="prior") for i in range(3)}
     result = evaluate_pipelines(tiny, {**quick, "slow": _SlowDummy(tmp_path)}, cv=3, n_repeats=2, n_jobs=2,
                                 verbose=0)
