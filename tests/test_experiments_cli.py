@@ -9,7 +9,7 @@ from sklearn_hardness._cli._reproduce import _reproduce_config_hash
 from sklearn_hardness.experiments import parse_provenance
 from sklearn_hardness.io import write_video
 
-from ._exp_data import tiny_presses
+from ._exp_data import tiny_presses, write_object_manifest
 
 
 @pytest.fixture(scope="module")
@@ -63,15 +63,7 @@ def test_reproduce_on_a_manifest_of_many_objects_is_object_disjoint(tmp_path, ca
     data = tiny_presses()
     folder = tmp_path / "recordings"
     folder.mkdir()
-    seen = {}
-    with open(folder / "manifest.csv", "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["path", "label", "object_id"])
-        for i in range(len(data.videos)):
-            c = int(data.target[i])
-            k = seen[c] = seen.get(c, -1) + 1
-            write_video(folder / f"press_{i:03d}.npy", data.videos[i])
-            w.writerow([f"press_{i:03d}.npy", data.target_names[c], f"object{c}-{k // 4}"])  # 2 objects a class
+    write_object_manifest(folder, data, presses_per_object=4)  # 2 objects a class
     out = tmp_path / "out"
     args = ["reproduce", "--dataset", str(folder / "manifest.csv"), "--model", "ofnn", "--out", str(out),
             "--n-runs", "1", "--strategies", "variance", "random", "--epochs", "4", "2", "--quiet", "--set",

@@ -212,6 +212,7 @@ def _reproduce_config_hash(args):
 def _run_reproduce(args):
     import time
 
+    from ..datasets._lazy import UnreadableVideosError
     from ..experiments import (
         comparison_table,
         format_paired_table,
@@ -231,21 +232,24 @@ def _run_reproduce(args):
     os.makedirs(args.out, exist_ok=True)
     results_path = os.path.join(args.out, "results.jsonl")
     t0 = time.time()
-    result = run_active_sampling(
-        args.dataset if args.dataset else args.preset,
-        preset=args.preset,
-        model=args.model,
-        strategies=args.strategies,
-        n_runs=args.n_runs,
-        seeds=args.seeds,
-        test_objects=args.test_objects,
-        quick=args.quick,
-        n_jobs=args.n_jobs,
-        results_path=results_path,
-        memory=os.path.join(args.out, "cache"),
-        verbose=0 if args.quiet else 1,
-        **config,
-    )
+    try:  # the first pass over the videos finds those that cannot be read, before any run
+        result = run_active_sampling(
+            args.dataset if args.dataset else args.preset,
+            preset=args.preset,
+            model=args.model,
+            strategies=args.strategies,
+            n_runs=args.n_runs,
+            seeds=args.seeds,
+            test_objects=args.test_objects,
+            quick=args.quick,
+            n_jobs=args.n_jobs,
+            results_path=results_path,
+            memory=os.path.join(args.out, "cache"),
+            verbose=0 if args.quiet else 1,
+            **config,
+        )
+    except UnreadableVideosError as exc:
+        raise _UsageError(str(exc)) from exc
     cfg = result.config
     rows = comparison_table(result)
     n_it = cfg["n_iterations"]

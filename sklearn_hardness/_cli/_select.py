@@ -81,6 +81,7 @@ def _run_select(args):
     import numpy as np
 
     from ..datasets import load_press_videos
+    from ..datasets._lazy import raise_unreadable
     from ..preprocessing import ContactFrameSelector
     from ..utils._validation import check_roi
 
@@ -93,7 +94,12 @@ def _run_select(args):
     with warnings.catch_warnings():
         if args.quiet:
             warnings.simplefilter("ignore")
-        selection = selector.select(data.videos)
+        try:
+            selection = selector.select(data.videos)
+        except (ValueError, TypeError, OSError) as exc:
+            with _user_errors():  # every video that cannot be read, in one error
+                raise_unreadable(data.videos, exc)
+            raise
     records = [
         {"video": i, "path": str(data.paths[i]), "label": str(data.target_names[data.target[i]]),
          "object_id": str(data.object_id[i]), "n_frames": len(selection.curves[i]),

@@ -21,6 +21,7 @@ from sklearn.utils import Bunch
 from tqdm.auto import tqdm
 
 from ..datasets import load_press_videos, make_presses
+from ..datasets._lazy import raise_unreadable
 from ..features import ContactProfileFeatures, DINOv2Features, LoadingCompliance, OpticalFlowFeatures
 from ..models._pipelines import _log_positive
 from ..preprocessing import ContactFrameSelector
@@ -119,6 +120,15 @@ def _features(frames, feature_params):
     return DINOv2Features(model=feature_params["model"]).fit_transform(frames)
 
 
+def _video_inputs(videos, frame_params, feature_params, verbose, n_jobs):
+    """One row per press from its video: the contact profile, or selected frames and their features."""
+    if frame_params is None:  # contact_profile(_nn, _3): features of the whole videos, no frame selection
+        step = ContactProfileFeatures(max_side=feature_params["max_side"],
+                                      features=feature_params.get("features", "all"), n_jobs=n_jobs)
+        return step.fit_transform(videos).astype(np.float32)
+    return _features(_select_frames(videos, frame_params, verbose, n_jobs), feature_params)
+
+
 def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=None):
     data = load_dataset(dataset, cfg)
     if feature_params is not None and feature_params["kind"] == "loading_compliance":
@@ -127,12 +137,12 @@ def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=N
         step = LoadingCompliance(features=feature_params["features"], onset=feature_params["onset"],
                                  drive_compliance=feature_params["drive_compliance"])
         X = _log_positive(step.fit_transform(force_position(data, ["loading_compliance"]))).astype(np.float32)
-    elif frame_params is None:  # contact_profile(_nn, _3): features of the whole videos, no frame selection
-        step = ContactProfileFeatures(max_side=feature_params["max_side"],
-                                      features=feature_params.get("features", "all"), n_jobs=n_jobs)
-        X = step.fit_transform(data["videos"]).astype(np.float32)
     else:
-        X = _features(_select_frames(data["videos"], frame_params, verbose, n_jobs), feature_params)
+        try:
+            X = _video_inputs(data["videos"], frame_params, feature_params, verbose, n_jobs)
+        except (ValueError, TypeError, OSError) as exc:
+            raise_unreadable(data["videos"], exc)  # every video that cannot be read, in one error
+            raise
     y = np.asarray(data["target"])
     return X, y
 

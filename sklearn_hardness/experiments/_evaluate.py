@@ -28,6 +28,7 @@ from sklearn.utils._param_validation import Interval, StrOptions, validate_param
 from .._experiment_names import DEFAULT_PIPELINES, PIPELINE_NAMES
 from .. import models
 from ..datasets import load_press_videos, make_presses
+from ..datasets._lazy import raise_unreadable
 from ..datasets._sim_presets import PRESETS
 from ..features import LoadingCompliance, OpticalFlowFeatures
 from ..metrics import hardness_mae
@@ -138,8 +139,10 @@ def _per_press_inputs(named, X, n_jobs, log):
     Pipelines with the same leading steps share one pass, and so do
     contact-profile steps that differ only in the features they output
     (:func:`all_columns`: each pipeline takes its columns). Where a pass
-    fails (a video its steps cannot read), its pipelines run whole in every
-    fold, where ``error_score`` decides.
+    fails on videos that cannot be read, one error lists them all
+    (:func:`~sklearn_hardness.datasets._lazy.raise_unreadable`); where it
+    fails otherwise, its pipelines run whole in every fold, where
+    ``error_score`` decides.
     """
     inputs, rests, seconds = {}, {}, {}
     passes = {}
@@ -150,12 +153,16 @@ def _per_press_inputs(named, X, n_jobs, log):
             prefix, columns = all_columns(prefix)
             passes.setdefault(prefix_key(prefix), (prefix, []))[1].append((name, rest, columns))
     contacts, flows = [], []  # (what a pass found on every press, the pipelines whose pass found it)
+    checked = False  # whether every video was found readable
     for prefix, users in passes.values():
         names = [name for name, _, _ in users]
         log.write(f"{describe(prefix)} of every press, once for all folds ({', '.join(names)})")
         try:
             Xt, once, found = transform_per_press(prefix, X, n_jobs=n_jobs)
-        except Exception:  # noqa: BLE001 - the folds run the whole pipelines and report it
+        except Exception as exc:  # noqa: BLE001 - the folds run the whole pipelines and report it
+            if not checked:  # unless videos cannot be read: then every pipeline would fail on every fold
+                raise_unreadable(X, exc)
+                checked = True
             continue
         for name, rest, columns in users:
             inputs[name], rests[name], seconds[name] = (Xt if columns is None else Xt[:, columns]), rest, once
@@ -501,7 +508,9 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     ValueError
         A class with fewer objects than ``cv``, an unknown pipeline name,
         a dataset without ``object_id``, or ``"loading_compliance"`` on a
-        dataset without force and position for every press.
+        dataset without force and position for every press. Also, whatever
+        ``error_score``, videos that cannot be read (a corrupt or truncated
+        file): the error lists every one of them, before any fit.
 
     See Also
     --------
