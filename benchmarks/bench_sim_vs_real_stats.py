@@ -282,12 +282,20 @@ def main():
 
     if args.manifest:
         from sklearn_hardness.datasets import load_press_videos
+        from sklearn_hardness.datasets._lazy import UnreadableVideosError, raise_unreadable
 
         reset_peak()
         t0 = time.perf_counter()
         data = load_press_videos(args.manifest)
         names = np.asarray(data.target_names)[np.asarray(data.target)]
-        rows = collect(data.videos)
+        try:
+            rows = collect(data.videos)
+        except (ValueError, TypeError, OSError) as exc:
+            try:  # every video that cannot be read, in one error
+                raise_unreadable(data.videos, exc)
+            except UnreadableVideosError as unreadable:
+                raise SystemExit(f"error: {unreadable}") from None
+            raise
         say(table(names, rows, f"Recordings of {args.manifest} ({len(rows)} presses), per label"))
         if args.features:
             rank = manifest_rank(data)
