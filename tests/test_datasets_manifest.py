@@ -1,3 +1,5 @@
+import warnings
+
 import numpy as np
 import pytest
 from sklearn.model_selection import train_test_split
@@ -138,3 +140,15 @@ def test_lazy_sequence_cache_and_pickle():
     assert _CALLS == [0, 1, 2, 1]
     clone = pickle.loads(pickle.dumps(seq))
     assert clone._cache == {} and clone[2].shape == (2, 3, 3, 3)
+
+
+def test_labels_that_differ_only_in_case_are_named(tmp_path):
+    manifest, _ = _write_dataset(tmp_path, labels=("soft", "Soft", "hard"), hardness=(1.13, 1.13, 0.44))
+    with pytest.warns(UserWarning, match="labels 'Soft' and 'soft' differ only in case") as record:
+        data = load_press_videos(manifest)
+    assert record[0].filename == __file__  # points at the caller's line
+    assert data.target_names.tolist() == ["Soft", "hard", "soft"]  # kept as written: three classes
+    (tmp_path / "clean").mkdir()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # labels written one way: no warning
+        load_press_videos(_write_dataset(tmp_path / "clean")[0])

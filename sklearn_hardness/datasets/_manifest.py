@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import os
+import warnings
 from numbers import Integral
 from pathlib import Path
 
@@ -12,6 +13,7 @@ from sklearn.utils import Bunch
 from sklearn.utils._param_validation import Interval, validate_params
 
 from ..io import read_video
+from ..utils._warnings import external_stacklevel
 from ._lazy import LazyVideoSequence
 
 __all__ = ["load_press_videos"]
@@ -41,6 +43,22 @@ def _sort_labels(labels):
         return sorted(labels, key=float)
     except ValueError:
         return sorted(labels)
+
+
+def _warn_labels_alike(target_names, manifest):
+    """Warn where labels differ only in case (``Soft`` and ``soft``): each is a class of its own."""
+    spellings = {}
+    for name in target_names:
+        spellings.setdefault(name.casefold(), []).append(name)
+    alike = [names for names in spellings.values() if len(names) > 1]
+    if alike:
+        warnings.warn(
+            f"Manifest '{manifest}': labels {', '.join(' and '.join(map(repr, names)) for names in alike)} "
+            "differ only in case, so each is a class of its own; if they are one class, write its label "
+            "one way on every row.",
+            UserWarning,
+            stacklevel=external_stacklevel(),
+        )
 
 
 def _float_or_raise(value, column, row_number, manifest):
@@ -132,6 +150,12 @@ def load_press_videos(manifest, *, cache_size=0):
         If required columns are missing, the manifest has no rows, a cell
         is malformed, or a label has conflicting hardness values.
 
+    Warns
+    -----
+    UserWarning
+        If labels differ only in case (``Soft`` and ``soft``): each is a
+        class of its own.
+
     Examples
     --------
     >>> import os, tempfile
@@ -185,6 +209,7 @@ def load_press_videos(manifest, *, cache_size=0):
 
     labels = [row["label"] for row in rows]
     target_names = _sort_labels(set(labels))
+    _warn_labels_alike(target_names, manifest)
     index = {name: i for i, name in enumerate(target_names)}
     target = np.array([index[label] for label in labels], dtype=int)
 
