@@ -42,6 +42,7 @@ import numpy as np
 import torch
 
 from _output import report
+from bench_mc_dropout import tiny_dinov2
 
 LOAD_ON_CPU = """
 import pickle, sys, warnings
@@ -58,18 +59,13 @@ np.savez(sys.argv[3], **{name: net.predict_proba(X[name]) for name, net in nets.
 
 def inputs(n_per_class, seed):
     """Per net: its input rows of every press (per-press steps run once, on the CPU), and the labels."""
-    import transformers
-
     from sklearn_hardness.datasets import make_presses
     from sklearn_hardness.features import ContactProfileFeatures
     from sklearn_hardness.models import make_convlstm_pipeline, make_dinov2nn_pipeline, make_ofnn_pipeline
 
     data = make_presses("silicone5", n_per_class=n_per_class, image_size=(120, 160), random_state=seed)
     videos = [data.videos[i] for i in range(len(data.target))]
-    torch.manual_seed(seed)
-    backbone = transformers.Dinov2Model(transformers.Dinov2Config(
-        hidden_size=32, num_hidden_layers=1, num_attention_heads=2, intermediate_size=64, image_size=28,
-        patch_size=14)).eval()
+    backbone = tiny_dinov2()  # bench_mc_dropout's: 28x28 input, random weights
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         rows = {"convlstm": make_convlstm_pipeline(intensity_channels=True)[:-1].fit_transform(videos),

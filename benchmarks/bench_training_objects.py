@@ -50,6 +50,8 @@ from _memory import peak_rss_mb, reset_peak
 from _output import report
 from bench_sim_to_real import named_pipeline
 from bench_sim_vs_real_stats import parse_param
+from sklearn_hardness._cli._common import _parse_set, _UsageError
+from sklearn_hardness._experiment_names import LOGISTIC_MODELS
 from sklearn_hardness.experiments._per_press import prefix_key, split_per_press, transform_per_press
 
 
@@ -132,17 +134,6 @@ def margin_cell(diffs):
     return f"{d.mean():+.3f} [{d.mean() - half:+.3f}, {d.mean() + half:+.3f}]"
 
 
-def parse_setting(text):
-    """``NAME=VALUE`` -> (name, int, float, bool, None or str)."""
-    name, value = text.split("=", 1)
-    for cast in (int, float):
-        try:
-            return name, cast(value)
-        except ValueError:
-            pass
-    return name, {"true": True, "false": False, "none": None}.get(value.lower(), value)
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--pipelines", nargs="+", default=["peak_change", "contact_profile", "convlstm"])
@@ -151,8 +142,9 @@ def main(argv=None):
     ap.add_argument("--sizes", type=int, nargs="+", default=[1, 2, 4, 9],
                     help="training sets: the first k of --pool-seeds pooled, for each k")
     ap.add_argument("--net-seeds", type=int, nargs="+", default=[0])
-    ap.add_argument("--set", dest="settings", type=parse_setting, action="append", default=[],
-                    help="a parameter of every pipeline that has it, NAME=VALUE (e.g. clf__batch_size=32)")
+    ap.add_argument("--set", dest="settings", action="append", default=[],
+                    help="a parameter of every pipeline that has it, NAME=VALUE as the command line's --set "
+                         "(e.g. clf__batch_size=32)")
     ap.add_argument("--param", type=parse_param, action="append", default=[],
                     help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
     ap.add_argument("--data", default=None, help="EstimateModulus example_data folder (real Wedge grasps)")
@@ -165,7 +157,11 @@ def main(argv=None):
         args.pipelines = ["peak_change", *args.pipelines]  # the margins are over it
     if max(args.sizes) > len(args.pool_seeds) or set(args.pool_seeds) & set(args.test_seeds):
         ap.error("--sizes may not exceed the number of --pool-seeds, and no pool seed may be a test seed")
-    params, settings = dict(args.param), dict(args.settings)
+    try:
+        settings = _parse_set(args.settings)  # the command line's --set: Python literals, else strings
+    except _UsageError as exc:
+        ap.error(str(exc))
+    params = dict(args.param)
     t0 = time.perf_counter()
     prefixes = {name: split_per_press(named_pipeline(name, 0))[0] for name in args.pipelines}
     pool = args.pool_seeds[:max(args.sizes)]
@@ -179,7 +175,7 @@ def main(argv=None):
     prepared = time.perf_counter() - t0
     jobs = []
     for name in args.pipelines:
-        seeds = args.net_seeds if name not in ("peak_change", "contact_profile", "contact_profile_3") else [0]
+        seeds = [0] if name == "peak_change" or name in LOGISTIC_MODELS else args.net_seeds  # no seed to vary
         for net_seed in seeds:
             for size in sorted(args.sizes, reverse=True):  # the longest fits first
                 train = (np.concatenate([sim[s][2][name] for s in pool[:size]]),
