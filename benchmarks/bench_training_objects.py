@@ -125,6 +125,15 @@ def fit_and_score(name, net_seed, size, train, tests, real, hardness, settings, 
     return name, net_seed, size, scores, pairs, time.perf_counter() - t0, peak_rss_mb()
 
 
+def add_run_arguments(ap):
+    """``--data``, ``--roi``, ``--cache``, ``--n-jobs`` and ``--out``, as this benchmark and its kin read them."""
+    ap.add_argument("--data", default=None, help="EstimateModulus example_data folder (real Wedge grasps)")
+    ap.add_argument("--roi", action="store_true", help="also the grasps' gel region (GEL_ROI)")
+    ap.add_argument("--cache", default=None, help="folder to keep each simulated set's per-press rows in")
+    ap.add_argument("--n-jobs", type=int, default=2)
+    ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
+
+
 def margin_cell(diffs):
     """``+0.100 [+0.050, +0.150]``: the mean of ``diffs`` (one per test set) and its 95% t-interval."""
     d = np.asarray(diffs, dtype=float)
@@ -147,11 +156,7 @@ def main(argv=None):
                          "(e.g. clf__batch_size=32)")
     ap.add_argument("--param", type=parse_param, action="append", default=[],
                     help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
-    ap.add_argument("--data", default=None, help="EstimateModulus example_data folder (real Wedge grasps)")
-    ap.add_argument("--roi", action="store_true", help="also the grasps' gel region (GEL_ROI)")
-    ap.add_argument("--cache", default=None, help="folder to keep each simulated set's per-press rows in")
-    ap.add_argument("--n-jobs", type=int, default=2)
-    ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
+    add_run_arguments(ap)
     args = ap.parse_args(argv)
     if "peak_change" not in args.pipelines:
         args.pipelines = ["peak_change", *args.pipelines]  # the margins are over it
