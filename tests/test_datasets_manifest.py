@@ -152,3 +152,36 @@ def test_labels_that_differ_only_in_case_are_named(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # labels written one way: no warning
         load_press_videos(_write_dataset(tmp_path / "clean")[0])
+
+
+def test_an_object_has_one_label_and_ids_are_given_on_every_row_or_none(tmp_path):
+    manifest, _ = _write_dataset(tmp_path)
+    text = manifest.read_text().splitlines()  # ids soft-cast0, soft-cast1, soft-cast0, hard-cast0, ...
+    # objects numbered within each label ("cast0" soft and "cast0" hard) would be one object to the folds
+    numbered = [line.replace("soft-cast", "cast").replace("hard-cast", "cast") for line in text]
+    manifest.write_text("\n".join(numbered) + "\n")
+    with pytest.raises(ValueError, match=r"object_id 'cast0' has presses labelled 'soft' \(line 2\), 'hard' "
+                                         r"\(line 5\) \(and 1 other object_id\(s\) likewise\).*e\.g\. 'soft-cast0'"):
+        load_press_videos(manifest)
+    # a blank id among given ones would merge the unknown objects of a label into one
+    blank = list(text)
+    blank[3] = blank[3].replace(",soft-cast0,", ",,")
+    manifest.write_text("\n".join(blank) + "\n")
+    with pytest.raises(ValueError, match=r"'object_id' is empty on line\(s\) 4 while other rows give it"):
+        load_press_videos(manifest)
+    # no id on any row: every label is one object, as documented
+    none = [",".join(c if i != 4 else "" for i, c in enumerate(line.split(","))) for line in text[1:]]
+    manifest.write_text("\n".join([text[0], *none]) + "\n")
+    data = load_press_videos(manifest)
+    assert data.object_id.tolist() == np.asarray(data.target_names)[data.target].tolist()
+
+
+def test_errors_name_the_file_line_past_empty_rows(tmp_path):
+    manifest, _ = _write_dataset(tmp_path)
+    text = manifest.read_text().splitlines()
+    n_cols = text[0].count(",")
+    text.insert(2, "," * n_cols)  # a row of empty cells, as spreadsheets export them: not a press
+    text[4] = text[4].replace(",soft,", ",,", 1)  # file line 5
+    manifest.write_text("\n".join(text) + "\n")
+    with pytest.raises(ValueError, match="line 5: empty 'label'"):
+        load_press_videos(manifest)

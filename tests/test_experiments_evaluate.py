@@ -325,8 +325,17 @@ def test_one_fold_does_not_make_a_recommendation(tiny):
 
 
 def test_bad_input(tiny):
-    with pytest.raises(ValueError, match="fewer than cv=5 objects"):
+    with pytest.raises(ValueError, match="fewer than cv=5 objects .*; lower cv to at most 4"):
         evaluate_pipelines(tiny, [], cv=5)
+    # what a manifest without an object_id column gives: every label one object; the error says so
+    nameless = Bunch(**tiny)
+    nameless.object_id = np.asarray(tiny.target_names)[tiny.target]
+    with pytest.raises(ValueError, match="at least 2 objects of every class.*names no objects.*add an object_id"):
+        evaluate_pipelines(nameless, [], cv=3)
+    one_hard = Bunch(**tiny)  # objects named, but one class has one object: more objects, not a lower cv
+    one_hard.object_id = np.where(tiny.target == 0, "the-hard-one", tiny.object_id)
+    with pytest.raises(ValueError, match="'hard': 1.*record more objects of those classes"):
+        evaluate_pipelines(one_hard, [], cv=3)
     with pytest.raises(ValueError, match="unknown pipeline"):
         evaluate_pipelines(tiny, ["resnet"], cv=3)
     no_groups = Bunch(**tiny)
@@ -831,3 +840,12 @@ def test_progress_names_the_pipelines_not_timed_yet(tiny, capsys):
     assert re.fullmatch(r"evaluate: 1/6 fits, \d+s elapsed, about \d+s left, not counting slow "
                         r"\(no fit finished yet\)", lines[0])
     assert all(line.endswith(" left") for line in lines[1:]) and len(lines) == 6
+
+
+def test_evaluation_json_is_strict_json_where_a_fold_failed():
+    from sklearn_hardness._cli._evaluate import _json_text
+
+    text = _json_text({"fold_scores": {"ofnn": [0.5, float("nan")]}, "table": [{"ci": (float("inf"), 0.1)}]})
+    assert "NaN" not in text and "Infinity" not in text
+    assert json.loads(text, parse_constant=lambda c: pytest.fail(f"non-standard JSON {c}")) == {
+        "fold_scores": {"ofnn": [0.5, None]}, "table": [{"ci": [None, 0.1]}]}

@@ -149,3 +149,16 @@ def test_simulated_sensor_streams_presses_of_the_chosen_object_through_record_vi
         record_video(sensor, n_frames=5)  # nothing pressed since the last recording
     with pytest.raises(ValueError, match="object_id"):
         SimulatedSensor({"videos": data.videos})
+
+
+def test_cli_record_refuses_an_object_id_recorded_with_another_label(camera, tmp_path, capsys):
+    source, _ = camera
+    out = tmp_path / "presses"
+    args = ["record", "--source", str(source), "--out", str(out), "--n-frames", "5", "--object-id", "1"]
+    main(args + ["--label", "soft"])
+    with pytest.raises(SystemExit, match="2"):
+        main(args + ["--label", "hard"])
+    assert "object_id '1' is recorded with label 'soft', not 'hard'" in capsys.readouterr().err
+    assert len(list((out / "videos").iterdir())) == 1  # checked before recording
+    main(args[:-1] + ["hard-1", "--label", "hard"])
+    assert load_press_videos(out / "manifest.csv").object_id.tolist() == ["1", "hard-1"]

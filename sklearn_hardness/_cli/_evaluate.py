@@ -54,7 +54,6 @@ def _add_evaluate(sub):
 
 
 def _run_evaluate(args):
-    import json
     from pathlib import Path
 
     import numpy as np
@@ -92,13 +91,30 @@ def _run_evaluate(args):
     (out / "evaluation.txt").write_text(provenance + "\n" + table + "\n")
     plot_confusion_matrices(result, out / "confusion_matrices.png")
     rows = [{k: (list(v) if isinstance(v, tuple) else v) for k, v in r.items()} for r in result.table]
-    (out / "evaluation.json").write_text(json.dumps(
+    (out / "evaluation.json").write_text(_json_text(
         {"table": rows, "fold_scores": {k: v.tolist() for k, v in result.fold_scores.items()},
          "object_fold_scores": {k: v.tolist() for k, v in result.object_fold_scores.items()},
          "n_repeats": result.n_repeats, "notes": result.notes,
          "recommended": result.recommended, "recommended_with_samples": result.recommended_with_samples,
-         "target_names": result.target_names.tolist(), "provenance": parse_provenance(provenance)}, indent=1))
+         "target_names": result.target_names.tolist(), "provenance": parse_provenance(provenance)}))
     if not args.quiet:
         print(f"wrote {out / 'evaluation.txt'}, {out / 'confusion_matrices.png'} and {out / 'evaluation.json'}",
               file=sys.stderr)
     return 0
+
+
+def _json_text(obj):
+    """``obj`` as JSON that strict parsers read: NaN and infinities (a fold that failed) become null."""
+    import json
+    import math
+
+    def strict(value):
+        if isinstance(value, float) and not math.isfinite(value):
+            return None
+        if isinstance(value, dict):
+            return {k: strict(v) for k, v in value.items()}
+        if isinstance(value, (list, tuple)):
+            return [strict(v) for v in value]
+        return value
+
+    return json.dumps(strict(obj), indent=1, allow_nan=False)

@@ -66,11 +66,44 @@ def _float_or_raise(value, column, row_number, manifest):
         out = float(value)
     except ValueError:
         raise ValueError(
-            f"{manifest}: row {row_number}: column '{column}' must be a number, got {value!r}."
+            f"{manifest}: line {row_number}: column '{column}' must be a number, got {value!r}."
         ) from None
     if not np.isfinite(out):
-        raise ValueError(f"{manifest}: row {row_number}: column '{column}' is not finite ({value!r}).")
+        raise ValueError(f"{manifest}: line {row_number}: column '{column}' is not finite ({value!r}).")
     return out
+
+
+def _object_ids(rows, lines, manifest):
+    """The object of every row: its ``object_id``, or its label where the manifest names no object.
+
+    An ``object_id`` names one physical object, so all its presses have one
+    label; where some rows give an id, every row must (a blank id would put
+    the presses of unknown objects together as one object per label).
+    """
+    ids = [row.get("object_id", "") for row in rows]
+    if not any(ids):
+        return np.array([row["label"] for row in rows])
+    blank = [n for n, i in zip(lines, ids) if not i]
+    if blank:
+        shown = ", ".join(map(str, blank[:5])) + (f" and {len(blank) - 5} more" if len(blank) > 5 else "")
+        raise ValueError(
+            f"{manifest}: 'object_id' is empty on line(s) {shown} while other rows give it; give the "
+            "object of every press or of none (without object ids, every label counts as one object)."
+        )
+    labels = {}  # object_id -> {label: first line}
+    for n, i, row in zip(lines, ids, rows):
+        labels.setdefault(i, {}).setdefault(row["label"], n)
+    shared = [(i, seen) for i, seen in labels.items() if len(seen) > 1]
+    if shared:
+        i, seen = shared[0]
+        where = ", ".join(f"{label!r} (line {n})" for label, n in seen.items())
+        more = f" (and {len(shared) - 1} other object_id(s) likewise)" if len(shared) > 1 else ""
+        raise ValueError(
+            f"{manifest}: object_id {i!r} has presses labelled {where}{more}; an object_id names one "
+            "physical object, which has one label. Where objects are numbered within each label, make "
+            f"the ids unique across labels (e.g. '{next(iter(seen))}-{i}')."
+        )
+    return np.array(ids)
 
 
 @validate_params(
@@ -103,7 +136,8 @@ def load_press_videos(manifest, *, cache_size=0):
 
         Optional columns: ``hardness`` (the class's hardness value, equal
         for all rows of a label), ``hardness_unit`` (e.g. ``mm/N`` or
-        ``Shore 00``), ``object_id`` (which physical object was pressed),
+        ``Shore 00``), ``object_id`` (which physical object was pressed: one
+        label per object; given on every row or on none),
         ``force_path``, ``timestamps_path`` and ``position_path`` (per-frame
         force in N, time in s and the sensor's position in mm, growing as it
         moves into the object: a robot's encoders, a gripper's closing; as
@@ -132,7 +166,8 @@ def load_press_videos(manifest, *, cache_size=0):
             list with a float array per video (None for a video without
             one), or None where the manifest has no such column.
         ``object_id``
-            ndarray of str per video (the label where not given).
+            ndarray of str per video: which physical object it presses
+            (its label on every row where the manifest names no object).
         ``fps``
             ndarray of float per video (NaN where not given).
         ``paths``
@@ -177,13 +212,16 @@ def load_press_videos(manifest, *, cache_size=0):
     with open(manifest, newline="", encoding="utf-8-sig") as f:
         reader = csv.DictReader(f)
         columns = [c.strip() for c in (reader.fieldnames or [])]
-        rows = [{k.strip(): (v or "").strip() for k, v in row.items() if k is not None} for row in reader]
+        # each row with the file's line it ends on, so that errors name that line
+        read = [({k.strip(): (v or "").strip() for k, v in row.items() if k is not None}, reader.line_num)
+                for row in reader]
     missing_cols = [c for c in _REQUIRED if c not in columns]
     if missing_cols:
         raise ValueError(
             f"Manifest '{manifest}' lacks required column(s) {missing_cols}; found {columns}."
         )
-    rows = [r for r in rows if any(r.values())]
+    lines = [n for r, n in read if any(r.values())]  # rows of empty cells (",,") are no presses
+    rows = [r for r, _ in read if any(r.values())]
     if not rows:
         raise ValueError(f"Manifest '{manifest}' lists no videos.")
 
@@ -192,11 +230,11 @@ def load_press_videos(manifest, *, cache_size=0):
         return p if p.is_absolute() else root / p
 
     paths, missing = [], []
-    for i, row in enumerate(rows, start=2):
+    for i, row in zip(lines, rows):
         if not row["path"]:
-            raise ValueError(f"{manifest}: row {i}: empty 'path'.")
+            raise ValueError(f"{manifest}: line {i}: empty 'path'.")
         if not row["label"]:
-            raise ValueError(f"{manifest}: row {i}: empty 'label'.")
+            raise ValueError(f"{manifest}: line {i}: empty 'label'.")
         p = resolve(row["path"])
         paths.append(p)
         for col in ("path", "force_path", "timestamps_path", "position_path"):
@@ -216,17 +254,17 @@ def load_press_videos(manifest, *, cache_size=0):
     hardness = None
     if "hardness" in columns and any(row["hardness"] for row in rows):
         per_class = {}
-        for i, row in enumerate(rows, start=2):
+        for i, row in zip(lines, rows):
             if not row["hardness"]:
                 raise ValueError(
-                    f"{manifest}: row {i}: 'hardness' is empty while other rows give it; give the "
+                    f"{manifest}: line {i}: 'hardness' is empty while other rows give it; give the "
                     "hardness of every row or of none."
                 )
             value = _float_or_raise(row["hardness"], "hardness", i, manifest)
             prev = per_class.setdefault(row["label"], value)
             if not np.isclose(prev, value):
                 raise ValueError(
-                    f"{manifest}: row {i}: label {row['label']!r} has hardness {value} here but "
+                    f"{manifest}: line {i}: label {row['label']!r} has hardness {value} here but "
                     f"{prev} in an earlier row; a class has one hardness value."
                 )
         hardness = np.array([per_class[name] for name in target_names], dtype=float)
@@ -243,10 +281,10 @@ def load_press_videos(manifest, *, cache_size=0):
     fps = np.array(
         [
             _float_or_raise(row["fps"], "fps", i, manifest) if row.get("fps") else np.nan
-            for i, row in enumerate(rows, start=2)
+            for i, row in zip(lines, rows)
         ]
     )
-    object_id = np.array([row.get("object_id") or row["label"] for row in rows])
+    object_id = _object_ids(rows, lines, manifest)
     extra = [c for c in columns if c not in _KNOWN]
     return Bunch(
         videos=LazyVideoSequence(read_video, paths, cache_size=cache_size),
@@ -285,7 +323,8 @@ def complete_manifest_row(manifest, row):
 
     The hardness of a label is the same on all its rows, and given on all rows or on
     none (as load_press_videos requires): an omitted value is taken from the label's
-    earlier rows; a conflicting or missing one is an error.
+    earlier rows; a conflicting or missing one is an error. An object_id already
+    recorded with another label is an error too (an object has one label).
     """
     columns, rows = read_manifest_rows(manifest)
     same = [r for r in rows if r.get("label") == row["label"]]
@@ -300,6 +339,11 @@ def complete_manifest_row(manifest, row):
                          f"'{row['label']}' too.")
     if rows and row["hardness"] and any(not r.get("hardness") for r in rows):
         raise ValueError(f"{manifest} has rows without hardness: record without --hardness, or add it there.")
+    other = sorted({r.get("label", "") for r in rows if r.get("object_id") == row.get("object_id")} - {row["label"]})
+    if row.get("object_id") and other:
+        raise ValueError(f"{manifest}: object_id '{row['object_id']}' is recorded with label {other[0]!r}, not "
+                         f"'{row['label']}'; an object has one label: pass another --object-id "
+                         f"(e.g. '{row['label']}-{row['object_id']}').")
     missing = [k for k, v in row.items() if v and columns and k not in columns]
     if missing:
         raise ValueError(f"{manifest} has no column(s) {missing} for this recording; "

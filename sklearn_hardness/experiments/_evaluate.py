@@ -552,10 +552,19 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     names = np.asarray(data.target_names)
     n_classes = len(names)
     objects_per_class = [len(np.unique(groups[y == c])) for c in range(n_classes)]
+    counts = dict(zip(names.tolist(), objects_per_class))
+    if min(objects_per_class) < 2:
+        nameless = np.array_equal(groups.astype(str), names[y].astype(str))
+        raise ValueError(
+            f"object-disjoint folds need at least 2 objects of every class; the dataset has {counts}"
+            + ("; it names no objects (a manifest without an object_id column counts every label as one "
+               "object): add an object_id column saying which physical object each press is of."
+               if nameless else ": record more objects of those classes.")
+        )
     short = [str(names[c]) for c in range(n_classes) if objects_per_class[c] < cv]
     if short:
-        raise ValueError(f"classes {short} have fewer than cv={cv} objects "
-                         f"({dict(zip(names.tolist(), objects_per_class))}); lower cv.")
+        raise ValueError(f"classes {short} have fewer than cv={cv} objects ({counts}); lower cv to at most "
+                         f"{min(objects_per_class)}.")
     # one stream for all repetitions, as scikit-learn's _RepeatedSplits: the first repetition's
     # folds are those of StratifiedGroupKFold(random_state=random_state) alone
     rng = check_random_state(random_state)
