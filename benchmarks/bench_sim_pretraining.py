@@ -200,7 +200,8 @@ def main(argv=None):
              "chance 0.33. Margins: per test set, mean over the nets' seeds, 95% t-interval over the test sets."]
     for v in args.variants:
         overrides = variant_params(v)
-        lines += ["", f"Target variant {v}{f' (overrides {overrides})' if overrides else ' (the source simulator)'}", "",
+        what = f" (overrides {overrides})" if overrides else " (the source simulator)"
+        lines += ["", f"Target variant {v}{what}", "",
                   "| model | balanced accuracy | - convlstm, target set only | - peak_change | "
                   + " | ".join(f"Wedge pairs ({view})" for view in real) + " |",
                   "|---|---|---|---|" + "---|" * len(real)]

@@ -18,7 +18,9 @@ def _add_record(sub):
     p.add_argument("--source", default="0", help="camera index (default 0), video file or stream URL")
     p.add_argument("--label", required=True, help="class label of the pressed object (e.g. soft)")
     p.add_argument("--out", required=True, help="folder of the recordings and manifest.csv")
-    p.add_argument("--object-id", default="", help="which physical object was pressed: an id of its own, not reused under another label (default: the label)")
+    p.add_argument("--object-id", default="",
+                   help="which physical object was pressed: an id of its own, not reused under another label "
+                        "(default: the label)")
     p.add_argument("--n-frames", type=_positive_int, default=None,
                    help="frames to record (default 126, 5 s at 25 fps, like GelSight Mini recordings)")
     p.add_argument("--duration", type=_float_type(), default=None, help="seconds to record instead of --n-frames")
