@@ -59,8 +59,10 @@ class PressOracle:
         - ``"recycle"``: return the remaining unseen presses, then start
           again through a fresh shuffle of all the class's presses (so
           presses repeat) and warn. With ``groups``, every object of the
-          class gets a fresh shuffle of its presses and the least-pressed
-          rule goes on (press counts are kept).
+          class gets a fresh shuffle of its presses as soon as the class has
+          fewer unseen presses than asked, and the least-pressed rule goes on
+          over all of them (press counts are kept): so the class's last unseen
+          presses may come after reused ones, or in a later answer.
 
     Attributes
     ----------
