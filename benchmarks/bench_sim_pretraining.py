@@ -46,14 +46,13 @@ import warnings
 
 import numpy as np
 from joblib import Parallel, delayed, effective_n_jobs
-from sklearn.metrics import balanced_accuracy_score
 
-from _estimate_modulus import GEL_ROI, expected_rank, family_pairs
+from _estimate_modulus import GEL_ROI
 from _memory import peak_rss_mb, reset_peak
 from _output import report
 from _sim_variants import VARIANTS, variant_params
 from bench_sim_to_real import named_pipeline
-from bench_training_objects import add_run_arguments, margin_cell, simulated_rows, wedge_rows
+from bench_training_objects import add_run_arguments, margin_cell, scores, simulated_rows, wedge_rows
 from sklearn_hardness.experiments._per_press import split_per_press
 
 PIPELINES = ("peak_change", "contact_profile", "convlstm")
@@ -74,16 +73,6 @@ def parse_fine_tune(text):
 def fine_tune_label(setting):
     lr, epochs = setting
     return f"pretrained, fine-tuned (lr {lr:g}, {epochs} epochs)"
-
-
-def scores(est, tests, real, hardness):
-    """Balanced accuracy per test set, and within-family Wedge pairs ordered right per view."""
-    accs = np.array([balanced_accuracy_score(y, est.predict(X)) for X, y in tests])
-    pairs = {}
-    for view, (X, names) in real.items():
-        fams = family_pairs(names, expected_rank(est.predict_proba(X), est.classes_, hardness))
-        pairs[view] = sum(right for right, _, _ in fams.values())
-    return accs, pairs
 
 
 def pretrain(net_seed, train, threads):

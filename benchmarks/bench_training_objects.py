@@ -117,12 +117,18 @@ def fit_and_score(name, net_seed, size, train, tests, real, hardness, settings, 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         rest.fit(*train)
-        scores = [balanced_accuracy_score(y, rest.predict(X)) for X, y in tests]
-        pairs = {}
-        for view, (X, names) in real.items():
-            fams = family_pairs(names, expected_rank(rest.predict_proba(X), rest.classes_, hardness))
-            pairs[view] = sum(right for right, _, _ in fams.values())
-    return name, net_seed, size, scores, pairs, time.perf_counter() - t0, peak_rss_mb()
+        accs, pairs = scores(rest, tests, real, hardness)
+    return name, net_seed, size, accs.tolist(), pairs, time.perf_counter() - t0, peak_rss_mb()
+
+
+def scores(est, tests, real, hardness):
+    """Balanced accuracy per test set, and within-family Wedge pairs ordered right per view."""
+    accs = np.array([balanced_accuracy_score(y, est.predict(X)) for X, y in tests])
+    pairs = {}
+    for view, (X, names) in real.items():
+        fams = family_pairs(names, expected_rank(est.predict_proba(X), est.classes_, hardness))
+        pairs[view] = sum(right for right, _, _ in fams.values())
+    return accs, pairs
 
 
 def add_run_arguments(ap):
