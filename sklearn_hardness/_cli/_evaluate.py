@@ -106,15 +106,7 @@ def _run_evaluate(args):
 def _json_text(obj):
     """``obj`` as JSON that strict parsers read: NaN and infinities (a fold that failed) become null."""
     import json
-    import math
 
-    def strict(value):
-        if isinstance(value, float) and not math.isfinite(value):
-            return None
-        if isinstance(value, dict):
-            return {k: strict(v) for k, v in value.items()}
-        if isinstance(value, (list, tuple)):
-            return [strict(v) for v in value]
-        return value
+    from ..experiments._results import _to_json  # as results.jsonl is written
 
-    return json.dumps(strict(obj), indent=1, allow_nan=False)
+    return json.dumps(_to_json(obj), indent=1, allow_nan=False)
