@@ -22,6 +22,7 @@ from sklearn_hardness.experiments import (
     plot_confusion_matrices,
     run_model_baselines,
 )
+from sklearn_hardness.models import make_contact_profile_pipeline
 
 
 @pytest.fixture(scope="module")
@@ -604,6 +605,68 @@ def test_a_press_no_step_can_read_fails_its_folds_as_before(tiny):
         result = evaluate_pipelines(data, ["contact_profile"], cv=3, error_score=np.nan, verbose=0)
     for row in result.table:  # every fold holds the press in training or test
         assert np.isnan(row["balanced_accuracy"]) and row["error"], row
+
+
+class _CountsFits(DummyClassifier):
+    """A most-frequent classifier that counts its fits on the class."""
+
+    fits = 0
+
+    def fit(self, X, y, sample_weight=None):
+        type(self).fits += 1
+        return super().fit(X, y, sample_weight)
+
+
+def test_presses_a_pipeline_cannot_take_are_named_by_dataset_index_and_file(tiny):
+    # one-frame videos: the contact-profile features take them, the nets' frame selection needs two
+    # frames; the chunks of the per-press pass (and the folds) would name them by their index there
+    from sklearn_hardness.experiments._per_press import FailingPressesError
+    from sklearn_hardness.preprocessing import ContactFrameSelector
+
+    data = Bunch(**tiny)
+    data.videos = [v[:1] if i in (5, 17) else v for i, v in enumerate(tiny.videos)]
+    data.paths = [f"objects/press_{i}.mp4" for i in range(len(data.videos))]
+    frames = make_pipeline(ContactFrameSelector(frame_size=(8, 10)), FunctionTransformer(
+        lambda X: np.asarray(X, dtype=float).reshape(len(X), -1)), _CountsFits())
+    _CountsFits.fits = 0
+    with pytest.raises(FailingPressesError) as info:
+        evaluate_pipelines(data, {"profile": make_contact_profile_pipeline(), "frames": frames}, cv=3,
+                           n_jobs=2, verbose=0)
+    message = str(info.value)
+    assert message.startswith("frames: ContactFrameSelector fails on 2 of 24 presses, each by itself:\n")
+    assert ("  press 5 (objects/press_5.mp4): ValueError: the press has 1 frame(s); at least 2 are needed.\n"
+            "  press 17 (objects/press_17.mp4): ValueError: the press has 1 frame(s)") in message
+    assert "Remove their rows from the manifest" in message
+    assert [i for i, _ in info.value.failures] == [5, 17] and _CountsFits.fits == 0  # before any fit
+    # with a numeric error_score: its folds fail at once (no fit), the notes name the presses, others score
+    with pytest.warns(RuntimeWarning, match="'frames' failed on a fold"):
+        result = evaluate_pipelines(data, {"profile": make_contact_profile_pipeline(), "frames": frames}, cv=3,
+                                    error_score=np.nan, verbose=0)
+    rows = {r["pipeline"]: r for r in result.table}
+    assert _CountsFits.fits == 0 and np.isnan(rows["frames"]["balanced_accuracy"])
+    assert rows["frames"]["error"] == ("FailingPressesError: ContactFrameSelector fails on 2 of 24 presses "
+                                       "(the notes name them)")
+    assert np.isfinite(rows["profile"]["balanced_accuracy"]) and rows["profile"]["error"] is None
+    assert result.notes[-1] == (
+        "frames: ContactFrameSelector fails on 2 of 24 presses, each by itself: press 5 (objects/press_5.mp4): "
+        "ValueError: the press has 1 frame(s); at least 2 are needed.; press 17 (objects/press_17.mp4): "
+        "ValueError: the press has 1 frame(s); at least 2 are needed.")
+
+
+def test_an_error_no_press_raises_alone_is_raised_as_it_is():
+    from sklearn_hardness.experiments._per_press import _fit_transform_chunk
+
+    class _FailsOnMany(FunctionTransformer):
+        def fit_transform(self, X, y=None):
+            if len(X) > 1:
+                raise MemoryError("too many at once")
+            return np.zeros((len(X), 1))
+
+    prefix = Pipeline([("many", _FailsOnMany())])
+    with pytest.raises(MemoryError, match="too many at once"):
+        _fit_transform_chunk(prefix, [np.zeros((3, 4, 4))] * 4, np.arange(4))
+    rows, _, failures = _fit_transform_chunk(prefix, [np.zeros((3, 4, 4))] * 4, np.arange(1))
+    assert rows.shape == (1, 1) and failures is None
 
 
 def test_plot_confusion_matrices_draws_one_row_normalised_matrix_per_pipeline(tmp_path):

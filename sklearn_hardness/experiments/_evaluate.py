@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 from joblib import Parallel, delayed, effective_n_jobs
 from scipy import stats
-from sklearn.base import clone
+from sklearn.base import BaseEstimator, clone
 from sklearn.metrics import ConfusionMatrixDisplay, balanced_accuracy_score, confusion_matrix
 from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import Pipeline
@@ -38,7 +38,8 @@ from ..utils._validation import check_roi
 from ._force_position import force_position, presses_lacking_force_position
 from ._models import NAMED_CHOICES
 from ._peak_baseline import make_peak_change_baseline
-from ._per_press import all_columns, describe, prefix_key, split_per_press, transform_per_press
+from ._per_press import (FailingPressesError, all_columns, describe, prefix_key, split_per_press,
+                         transform_per_press)
 from ._runner import ProgressLog
 
 __all__ = [
@@ -126,7 +127,33 @@ def _ci95(values, test_train_ratio, df, *, bounds):
     return m, (float(max(m - half, lo)), float(min(m + half, hi)))
 
 
-def _per_press_inputs(named, X, n_jobs, log):
+class _FailedPerPress(BaseEstimator):
+    """Stands in for a pipeline whose per-press steps fail on some presses: every fold fails at once.
+
+    Each fold has every press in its training or its test presses, so each
+    would meet the failing presses (after training a net, where they are
+    among the test presses); this one fails at once with ``message``.
+    """
+
+    def __init__(self, message=""):
+        self.message = message
+
+    def fit(self, X, y=None):
+        raise FailingPressesError(self.message)
+
+
+def _failing_presses(prefix, failures, names, n_presses, paths, lines):
+    """The presses on which the pass of ``prefix`` failed, by index and file, for ``names``' users.
+
+    One press a line (for an error) where ``lines``, else all on one line (a note).
+    """
+    presses = [f"press {i}" + (f" ({paths[i]})" if paths is not None else "") + f": {message}"
+               for i, message in failures]
+    head = f"{', '.join(names)}: {describe(prefix)} fails on {len(presses)} of {n_presses} presses, each by itself:"
+    return head + ("\n  " + "\n  ".join(presses) if lines else " " + "; ".join(presses))
+
+
+def _per_press_inputs(named, X, n_jobs, log, error_score="raise", paths=None):
     """Run each pipeline's leading per-press steps once over all presses (:mod:`._per_press`).
 
     Returns, per name, the input its folds get (the rows of those steps, or
@@ -140,9 +167,12 @@ def _per_press_inputs(named, X, n_jobs, log):
     contact-profile steps that differ only in the features they output
     (:func:`all_columns`: each pipeline takes its columns). Where a pass
     fails on videos that cannot be read, one error lists them all
-    (:func:`~sklearn_hardness.datasets._lazy.raise_unreadable`); where it
-    fails otherwise, its pipelines run whole in every fold, where
-    ``error_score`` decides.
+    (:func:`~sklearn_hardness.datasets._lazy.raise_unreadable`); where
+    presses fail it by themselves (a one-frame video), one error lists them
+    by index and ``paths`` (a :class:`FailingPressesError`), or, with a
+    numeric ``error_score``, a note does and every fold of its pipelines
+    fails at once; where it fails otherwise, its pipelines run whole in
+    every fold, where ``error_score`` decides.
     """
     inputs, rests, seconds = {}, {}, {}
     passes = {}
@@ -153,6 +183,7 @@ def _per_press_inputs(named, X, n_jobs, log):
             prefix, columns = all_columns(prefix)
             passes.setdefault(prefix_key(prefix), (prefix, []))[1].append((name, rest, columns))
     contacts, flows = [], []  # (what a pass found on every press, the pipelines whose pass found it)
+    notes = []  # on presses that failed a pass
     checked = False  # whether every video was found readable
     for prefix, users in passes.values():
         names = [name for name, _, _ in users]
@@ -163,6 +194,19 @@ def _per_press_inputs(named, X, n_jobs, log):
             if not checked:  # unless videos cannot be read: then every pipeline would fail on every fold
                 raise_unreadable(X, exc)
                 checked = True
+            if isinstance(exc, FailingPressesError):  # every fold would fail: say on which presses, now
+                if error_score == "raise":
+                    raise FailingPressesError(
+                        _failing_presses(prefix, exc.failures, names, len(X), paths, lines=True)
+                        + "\nRemove their rows from the manifest or record them again; with error_score=np.nan, "
+                        "evaluate_pipelines gives these pipelines an error and scores the others.",
+                        exc.failures) from exc
+                note = _failing_presses(prefix, exc.failures, names, len(X), paths, lines=False)
+                notes.append(note)
+                log.write(note)
+                for name in names:
+                    rests[name] = _FailedPerPress(f"{describe(prefix)} fails on {len(exc.failures)} of "
+                                                  f"{len(X)} presses (the notes name them)")
             continue
         for name, rest, columns in users:
             inputs[name], rests[name], seconds[name] = (Xt if columns is None else Xt[:, columns]), rest, once
@@ -171,11 +215,11 @@ def _per_press_inputs(named, X, n_jobs, log):
         if "flow_corners" in found:
             flow = next(step for _, step in prefix.steps if isinstance(step, OpticalFlowFeatures))
             _merge(flows, (found["flow_corners"], found["flow_tracks_lost"], int(flow.n_features)), names)
-    notes = ([_contact_note(status, names) for (status,), names in contacts]
-             + [_flow_note(*found, names) for found, names in flows])
-    for note in notes:
+    found_notes = ([_contact_note(status, names) for (status,), names in contacts]
+                   + [_flow_note(*found, names) for found, names in flows])
+    for note in found_notes:
         log.write(note)
-    return inputs, rests, seconds, notes
+    return inputs, rests, seconds, found_notes + notes
 
 
 def _merge(seen, found, names):
@@ -496,7 +540,9 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
             of the nets found contact on (weak, none, too short), how many
             corners the optical flow found per press and how many of their
             tracks it lost, and how many presses a force-and-position
-            pipeline found no loading phase in. Empty without such steps.
+            pipeline found no loading phase in; with a numeric
+            ``error_score``, the presses on which a pipeline's per-press
+            steps fail by themselves. Empty without such steps.
         target, target_names, groups, folds, n_repeats, chance
             The labels, class names, object of each press, the folds' test
             indices (``n_repeats * cv`` arrays, repetition after
@@ -510,7 +556,11 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         a dataset without ``object_id``, or ``"loading_compliance"`` on a
         dataset without force and position for every press. Also, whatever
         ``error_score``, videos that cannot be read (a corrupt or truncated
-        file): the error lists every one of them, before any fit.
+        file): the error lists every one of them, before any fit. With
+        ``error_score="raise"``, presses on which a pipeline's per-press
+        steps fail by themselves (e.g. a video of one frame, where the nets'
+        contact-frame selection needs two): the error lists every one of
+        them, by index among the dataset's presses and file, before any fit.
 
     See Also
     --------
@@ -579,7 +629,8 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     reads_force = [name for name, est in named.items() if _takes_force_position(est)]
     force_position_rows = force_position(data, reads_force) if reads_force else None
     inputs, rests, seconds_once, notes = _per_press_inputs(
-        {name: est for name, est in named.items() if name not in reads_force}, X, n_jobs, log)
+        {name: est for name, est in named.items() if name not in reads_force}, X, n_jobs, log, error_score,
+        getattr(data, "paths", None))
     for name in reads_force:
         inputs[name], rests[name], seconds_once[name] = force_position_rows, named[name], 0.0
         note = _loading_phase_note(named[name], force_position_rows, name)

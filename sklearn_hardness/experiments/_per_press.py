@@ -15,6 +15,7 @@ without a net.
 
 from __future__ import annotations
 
+import re
 import time
 import warnings
 
@@ -32,7 +33,8 @@ from ..features._contact_profile import FEATURE_NAMES
 from ..preprocessing import ContactFrameSelector
 from ._peak_baseline import peak_contact_change
 
-__all__ = ["all_columns", "describe", "prefix_key", "split_per_press", "transform_per_press"]
+__all__ = ["FailingPressesError", "all_columns", "describe", "prefix_key", "split_per_press",
+           "transform_per_press"]
 
 #: Exact classes (not subclasses, whose ``fit`` may learn) that map each press by itself.
 _PER_PRESS_TYPES = (ContactFrameSelector, ContactProfileFeatures, OpticalFlowFeatures, DINOv2Features)
@@ -104,8 +106,26 @@ def prefix_key(prefix):
     return joblib.hash([(type(step).__qualname__, step.get_params(deep=False)) for _, step in prefix.steps])
 
 
-def _fit_transform_chunk(prefix, X, rows):
-    """The chunk's rows, and what its steps found on each press (see :func:`transform_per_press`)."""
+class FailingPressesError(ValueError):
+    """Per-press steps that fail on some presses, each by itself.
+
+    ``failures`` lists ``(press, message)``: the index of each failing press
+    among all presses of the pass, and what its steps raised on it alone
+    (the ``X[0]`` an error names there is rewritten as ``the press``). The message lists them all,
+    as a user mending a manifest wants them, where a pass over chunks of
+    presses would name the first failing press by its index in its chunk.
+    """
+
+    def __init__(self, message, failures=()):
+        super().__init__(message)
+        self.failures = list(failures)
+
+    def __reduce__(self):  # joblib's workers send it back pickled
+        return type(self), (self.args[0], self.failures)
+
+
+def _transform_chunk(prefix, X, rows):
+    """The chunk's rows through a clone of ``prefix``, and what its steps found on each press."""
     fitted = clone(prefix)
     found = {}
     Xt = _safe_indexing(X, rows)
@@ -123,6 +143,30 @@ def _fit_transform_chunk(prefix, X, rows):
             if isinstance(step, ContactFrameSelector):
                 found.setdefault("contact_status", np.asarray(step.selection_.status, dtype=object))
     return Xt, found
+
+
+def _fit_transform_chunk(prefix, X, rows):
+    """``(rows, found, None)`` of the chunk (see :func:`transform_per_press`), or ``(None, None, failures)``.
+
+    Where the chunk fails, each of its presses runs alone (the steps map each
+    press by itself, so a press fails alone where it fails in the chunk) and
+    ``failures`` lists those that fail, ``(index among all presses,
+    message)``. Where none fails alone, the chunk's error is raised as it is.
+    """
+    try:
+        Xt, found = _transform_chunk(prefix, X, rows)
+    except Exception:
+        failures = []
+        for i in rows:
+            try:
+                _transform_chunk(prefix, X, [i])
+            except Exception as exc:  # noqa: BLE001 - reported with the press it failed on
+                message = re.sub(r"\bX\[0\]", "the press", str(exc))
+                failures.append((int(i), f"{type(exc).__name__}: {message}"))
+        if not failures:
+            raise
+        return None, None, failures
+    return Xt, found, None
 
 
 def transform_per_press(prefix, X, n_jobs=None):
@@ -154,10 +198,21 @@ def transform_per_press(prefix, X, n_jobs=None):
         :class:`~sklearn_hardness.features.OpticalFlowFeatures` (the corners
         found in each press's first frame, and how many of their tracks were
         lost before its last frame). Empty where it has neither.
+
+    Raises
+    ------
+    FailingPressesError
+        Where presses fail by themselves: every such press, by its index in
+        ``X``. An error no press raises alone is raised as it is.
     """
     t0 = time.perf_counter()
     n_chunks = max(1, min(len(X), joblib.effective_n_jobs(n_jobs)))
     chunks = [rows for rows in np.array_split(np.arange(len(X)), n_chunks) if len(rows)]
     parts = Parallel(n_jobs=n_jobs)(delayed(_fit_transform_chunk)(prefix, X, rows) for rows in chunks)
-    found = {key: np.concatenate([part[key] for _, part in parts]) for key in parts[0][1]}
-    return np.concatenate([Xt for Xt, _ in parts]), time.perf_counter() - t0, found
+    failures = [failure for _, _, part in parts if part for failure in part]
+    if failures:
+        raise FailingPressesError(
+            f"{describe(prefix)} fails on {len(failures)} of {len(X)} presses, each by itself:\n  "
+            + "\n  ".join(f"press {i}: {message}" for i, message in failures), failures)
+    found = {key: np.concatenate([part[key] for _, part, _ in parts]) for key in parts[0][1]}
+    return np.concatenate([Xt for Xt, _, _ in parts]), time.perf_counter() - t0, found
