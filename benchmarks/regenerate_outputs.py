@@ -54,8 +54,9 @@ def file_sha256(path):
 def machine_text(machine):
     """One phrase for a provenance's machine dict."""
     python = f", Python {machine['python']}" if machine.get("python") else ""
+    blas = f", {machine['blas']}" if machine.get("blas") else ""  # older records have none
     return (f"{machine['cpu']}, {machine['cores']} cores, {machine['torch_threads']} torch threads, "
-            f"torch {machine['torch']}, numpy {machine['numpy']}{python}, load {machine.get('load')}")
+            f"torch {machine['torch']}, numpy {machine['numpy']}{python}{blas}, load {machine.get('load')}")
 
 
 def provenance_row(name, text):

@@ -61,7 +61,8 @@ def test_code_fingerprint_follows_code_not_docs(tmp_path):
 
 def test_provenance_header_is_one_line_that_reads_back():
     machine = machine_reference(matmul=False)
-    assert set(machine) == {"cpu", "cores", "torch_threads", "python", "torch", "numpy", "matmul_gflops", "load"}
+    assert set(machine) == {"cpu", "cores", "torch_threads", "python", "torch", "numpy", "blas", "matmul_gflops",
+                            "load"}
     line = provenance_header("sklearn-hardness reproduce --quick", config_hash="abc", machine=machine,
                              date="2026-01-01T00:00Z", commit="f00")
     assert "\n" not in line
@@ -77,6 +78,21 @@ def test_provenance_header_is_one_line_that_reads_back():
 def test_machine_reference_measures_the_matmul_rate():
     gflops = machine_reference()["matmul_gflops"]
     assert isinstance(gflops, float) and 0.1 < gflops < 1e5
+
+
+def test_machine_reference_names_the_kernels_blas_chose():
+    # OpenBLAS picks kernels per CPU (OPENBLAS_CORETYPE overrides it); runs that refit a model between
+    # choices move in their last digits with them, so the provenance says which ran
+    import subprocess
+    import sys
+
+    blas = machine_reference(matmul=False)["blas"]
+    if "openblas" not in (blas or "") or platform.machine() not in ("x86_64", "AMD64"):
+        pytest.skip(f"OpenBLAS on x86-64 only (CI's); this machine has {blas} on {platform.machine()}")
+    code = "from sklearn_hardness.experiments import machine_reference; print(machine_reference(matmul=False)['blas'])"
+    env = {**os.environ, "OPENBLAS_CORETYPE": "Sandybridge"}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True).stdout
+    assert "openblas" in out and all(part.endswith("Sandybridge") for part in out.strip().split("; ")), out
 
 
 def test_recorded_command_leaves_out_where_output_goes():

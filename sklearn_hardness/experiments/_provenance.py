@@ -6,8 +6,8 @@ names the command, the configuration hash, a fingerprint of the code (its syntax
 tree without docstrings or comments, so rewording the documentation changes
 nothing while any change of code does), the git commit, the machine (with the
 single-thread float32 matrix-product rate of ``benchmarks/bench_flops.py`` as its
-speed reference) and the date. Tests then compare the fingerprint and the
-configuration hash with the current code's, on any machine.
+speed reference, and the kernels its BLAS chose) and the date. Tests then compare
+the fingerprint and the configuration hash with the current code's, on any machine.
 """
 
 from __future__ import annotations
@@ -160,6 +160,24 @@ def _cpu_model():
     return platform.processor() or platform.machine()
 
 
+def _blas():
+    """The BLAS libraries loaded, each with the kernels it chose: e.g. ``"openblas 0.3.31 Haswell"``.
+
+    OpenBLAS picks its kernels for the CPU when it loads (the environment
+    variable ``OPENBLAS_CORETYPE`` overrides the choice), and kernels round
+    sums differently. A run whose choices follow its floats (posterior samples
+    of a refitted model) gives the same digits on any machine where the same
+    kernels ran, and can differ in the last digits elsewhere. None where
+    ``threadpoolctl`` finds no BLAS.
+    """
+    import scipy.linalg  # noqa: F401 - scipy's BLAS is loaded too
+    from threadpoolctl import threadpool_info
+
+    found = {" ".join(str(lib[key]) for key in ("internal_api", "version", "architecture") if lib.get(key))
+             for lib in threadpool_info() if lib.get("user_api") == "blas"}
+    return "; ".join(sorted(found)) or None
+
+
 def machine_reference(matmul=True):
     """A short description of this machine, with its matrix-product rate as speed reference.
 
@@ -172,10 +190,13 @@ def machine_reference(matmul=True):
     -------
     machine : dict
         ``cpu`` (model name), ``cores`` (``os.cpu_count()``), ``torch_threads``,
-        ``torch``, ``numpy``, ``python`` (versions), ``matmul_gflops`` (one thread,
-        float32, 2048^3; None without ``matmul``) and ``load`` (the 1-minute
-        load average when measured, None where the system does not give it:
-        a rate measured on a busy machine is lower).
+        ``torch``, ``numpy``, ``python`` (versions), ``blas`` (the BLAS
+        libraries and the kernels they chose for this CPU, e.g. ``"openblas
+        0.3.31.188.0 Haswell"``: runs that refit a model between choices give
+        the same digits where the same kernels ran), ``matmul_gflops`` (one
+        thread, float32, 2048^3; None without ``matmul``) and ``load`` (the
+        1-minute load average when measured, None where the system does not
+        give it: a rate measured on a busy machine is lower).
     """
     try:
         load = round(os.getloadavg()[0], 1)
@@ -188,6 +209,7 @@ def machine_reference(matmul=True):
         "torch": torch.__version__,
         "numpy": np.__version__,
         "python": platform.python_version(),
+        "blas": _blas(),
         "matmul_gflops": round(matmul_gflops(), 1) if matmul else None,
         "load": load,
     }
