@@ -131,6 +131,21 @@ def test_oracle_recycles_objects_of_a_class_once_all_are_pressed_out():
         strict.press_object(0)
 
 
+def test_recycling_hands_out_every_unseen_press_before_a_reused_one():
+    # the first 4 presses empty "a" and take 2 of "b"'s 4; asked for 4 more, the class has 2 unseen
+    # (both "b"'s): they come first, before any press of "a" is reused (both objects tie at 2 presses)
+    y = np.zeros(6, int)
+    groups = np.array(["a", "a", "b", "b", "b", "b"])
+    for seed in range(10):
+        oracle = PressOracle(np.arange(6), y, groups=groups, random_state=seed, on_exhausted="recycle")
+        first = oracle.press(0, 4)[0].tolist()
+        with pytest.warns(UserWarning, match="reusing"):
+            second = oracle.press(0, 4)[0].tolist()
+        unseen = sorted(set(range(6)) - set(first))
+        assert sorted(second[:len(unseen)]) == unseen, (seed, first, second)
+        assert len(second) == 4 and oracle.n_pressed_["a"] + oracle.n_pressed_["b"] == 8
+
+
 def test_class_only_oracle_is_unchanged():
     """The draws of the class-level oracle on main f885357 (silicone5 quick, test class 0, seed 0)."""
     y = make_presses("silicone5", image_size=(96, 128), random_state=0).target

@@ -58,11 +58,17 @@ class PressOracle:
           warn.
         - ``"recycle"``: return the remaining unseen presses, then start
           again through a fresh shuffle of all the class's presses (so
-          presses repeat) and warn. With ``groups``, every object of the
-          class gets a fresh shuffle of its presses as soon as the class has
-          fewer unseen presses than asked, and the least-pressed rule goes on
-          over all of them (press counts are kept): so the class's last unseen
-          presses may come after reused ones, or in a later answer.
+          presses repeat) and warn. With ``groups``, the class's last unseen
+          presses come first (least-pressed object first, as always); then
+          every object of the class gets a fresh shuffle of its presses, and
+          the least-pressed rule goes on over all of them (press counts are
+          kept).
+
+        .. versionchanged:: 0.1
+           With ``groups`` and ``"recycle"``, unseen presses come before
+           reused ones; until then every object was refilled first, so the
+           least-pressed rule could hand out reused presses of one object
+           while others still had unseen ones.
 
     Attributes
     ----------
@@ -186,14 +192,18 @@ class PressOracle:
 
     def _take_objects(self, key, n):
         """``n`` presses of class ``key`` from its objects in turn (least pressed first)."""
+        out = []
         if n > self.n_remaining(key):
             n = self._exhausted(key, n, self.n_remaining(key))
             if self.on_exhausted == "recycle":
+                while self.n_remaining(key) > 0:  # the unseen presses first
+                    got = self._take_one(self._pick_object(key), n)
+                    out.append(got)
+                    n -= len(got)
                 while self.n_remaining(key) < n:
                     for o in self._objects[key]:
                         self._order[o] = np.concatenate(
                             [self._order[o], self._rng.permutation(self._obj_members[o])])
-        out = []
         while n > 0:
             obj = self._pick_object(key)
             got = self._take_one(obj, n)
