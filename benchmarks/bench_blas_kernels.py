@@ -9,7 +9,10 @@ many runs pressed other objects (``queried``) or other presses, how many ended
 at another accuracy, and at which iteration their choices first parted; then
 the lines of ``paired.txt`` that differ. Each run's provenance line says which
 kernels OpenBLAS ran (the machine's ``blas``): a kernel set the CPU cannot run
-is reported, not compared.
+is reported, not compared. ``native`` runs with neither ``OPENBLAS_CORETYPE``
+nor ``OPENBLAS_L2_SIZE`` set (OpenBLAS's own choice for the CPU; some machine
+images set both, where older builds fail with that choice); a named kernel set
+keeps ``OPENBLAS_L2_SIZE`` as the environment has it.
 
     python benchmarks/bench_blas_kernels.py --coretypes Haswell SkylakeX Sandybridge -- \\
         --dataset everyday --model contact_profile --strategies thompson random \\
@@ -34,12 +37,29 @@ from sklearn_hardness.experiments import parse_provenance
 
 
 def run_with_kernels(coretype, reproduce_args, out):
-    """Run ``reproduce`` with ``OPENBLAS_CORETYPE=coretype`` into ``out``; its wall seconds."""
-    env = {**os.environ, "OPENBLAS_CORETYPE": coretype}
+    """Run ``reproduce`` with ``OPENBLAS_CORETYPE=coretype`` (or OpenBLAS's own choice) into ``out``; its seconds."""
+    env = dict(os.environ)
+    if coretype == NATIVE:
+        env.pop("OPENBLAS_CORETYPE", None)
+        env.pop("OPENBLAS_L2_SIZE", None)
+    else:
+        env["OPENBLAS_CORETYPE"] = coretype
     t0 = time.perf_counter()
     subprocess.run([sys.executable, "-m", "sklearn_hardness._cli", "reproduce", *reproduce_args,
                     "--out", out, "--quiet"], env=env, check=True, stdout=subprocess.DEVNULL)
     return time.perf_counter() - t0
+
+
+#: The kernel set OpenBLAS picks for the CPU by itself.
+NATIVE = "native"
+
+
+def honoured(coretype, blas):
+    """Whether OpenBLAS ran the kernels asked for (any, for ``native``), by the run's ``blas``."""
+    libraries = [part for part in (blas or "").split(" (")[0].split("; ") if part]
+    if not libraries or not all(part.startswith("openblas") for part in libraries):
+        return False
+    return coretype == NATIVE or all(part.endswith(coretype) for part in libraries)
 
 
 def kernels_ran(out):
@@ -87,7 +107,8 @@ def compare(reference, other, n_iterations):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--coretypes", nargs="+", default=["Haswell", "SkylakeX", "Sandybridge"],
-                    help="OPENBLAS_CORETYPE of each run; the first is the reference")
+                    help="OPENBLAS_CORETYPE of each run, or native (neither it nor OPENBLAS_L2_SIZE set); "
+                         "the first is the reference")
     ap.add_argument("--keep", default=None, help="folder to keep the runs in (default: a temporary one)")
     ap.add_argument("--out", default=None, help="also write the report here, after a provenance line")
     ap.add_argument("reproduce_args", nargs=argparse.REMAINDER,
@@ -100,6 +121,8 @@ def main():
         ap.error("leave --out out of the reproduce arguments: each kernel set gets its own folder")
     if len(args.coretypes) < 2:
         ap.error("--coretypes needs at least two kernel sets to compare")
+    if args.keep and os.path.isdir(args.keep) and os.listdir(args.keep):
+        ap.error(f"--keep {args.keep} is not empty: reproduce would resume the runs in it")
 
     with tempfile.TemporaryDirectory() as tmp:
         root = args.keep or tmp
@@ -111,28 +134,27 @@ def main():
             print(f"{coretype}: {seconds[coretype]:.0f} s, OpenBLAS ran {ran[coretype]}", file=sys.stderr)
         lines = [f"sklearn-hardness reproduce {' '.join(reproduce_args)}, once per OpenBLAS kernel set "
                  "(OPENBLAS_CORETYPE)", ""]
-        honoured = []
+        compared = []
         for coretype in args.coretypes:
-            parts = (ran[coretype] or "").split("; ")
-            ok = all(p.startswith("openblas") and p.endswith(coretype) for p in parts if p)
+            ok = honoured(coretype, ran[coretype])
             if ok:
-                honoured.append(coretype)
+                compared.append(coretype)
             lines.append(f"{coretype:<12} {seconds[coretype]:5.0f} s  OpenBLAS ran: {ran[coretype]}"
                          + ("" if ok else "  (not the kernels asked for: left out below)"))
-        if len(honoured) < 2:
+        if len(compared) < 2:
             report("\n".join(lines + ["", "fewer than two kernel sets ran as asked: nothing to compare"]),
                    args.out)
             return
-        reference = active_runs(folders[honoured[0]])
+        reference = active_runs(folders[compared[0]])
         n_iterations = max(len(r["queried"]) for r in reference.values())
-        lines += ["", f"runs against those with {honoured[0]}'s kernels (the same command, seeds and objects):",
+        lines += ["", f"runs against those with {compared[0]}'s kernels (the same command, seeds and objects):",
                   f"{'kernels':<12} {'strategy':<10} {'runs':>5}  {'other objects pressed':>22}  "
                   f"{'other presses':>13}  {'other final accuracy':>20}  first parted at iteration "
                   + " / ".join(str(i) for i in range(n_iterations))]
-        with open(os.path.join(folders[honoured[0]], "paired.txt")) as f:
+        with open(os.path.join(folders[compared[0]], "paired.txt")) as f:
             reference_paired = f.read().splitlines()[1:]
         differing = []
-        for coretype in honoured[1:]:
+        for coretype in compared[1:]:
             for strategy, n, queried, drawn, final, parted in compare(
                     reference, active_runs(folders[coretype]), n_iterations):
                 lines.append(f"{coretype:<12} {strategy:<10} {n:>5}  {f'{queried} ({queried / n:.1%})':>22}  "
@@ -141,7 +163,7 @@ def main():
                 paired = f.read().splitlines()[1:]
             differing.append((coretype, [(a, b) for a, b in zip(reference_paired, paired) if a != b]))
         for coretype, pairs in differing:
-            lines += ["", f"paired.txt lines that differ, {honoured[0]} then {coretype} "
+            lines += ["", f"paired.txt lines that differ, {compared[0]} then {coretype} "
                       f"({len(pairs)} of {len(reference_paired)}):"]
             for a, b in pairs:
                 lines += [f"  {a}", f"  {b}"]

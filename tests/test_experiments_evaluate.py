@@ -653,6 +653,20 @@ def test_presses_a_pipeline_cannot_take_are_named_by_dataset_index_and_file(tiny
         "ValueError: the press has 1 frame(s); at least 2 are needed.")
 
 
+def test_an_error_of_the_steps_not_the_presses_is_raised_as_it_is(tiny):
+    # every press would fail alone with it: a parameter, not the presses (as missing weights would be)
+    from sklearn_hardness.experiments._per_press import FailingPressesError
+    from sklearn_hardness.preprocessing import ContactFrameSelector
+
+    bad = make_pipeline(ContactFrameSelector(roi=(0.9, 0.1, 0.0, 1.0)), DummyClassifier())
+    with pytest.raises(ValueError, match="roi") as info:
+        evaluate_pipelines(tiny, {"bad": bad}, cv=3, n_jobs=2, verbose=0)
+    assert not isinstance(info.value, FailingPressesError)
+    with pytest.warns(RuntimeWarning, match="failed on a fold"):
+        result = evaluate_pipelines(tiny, {"bad": bad}, cv=3, error_score=np.nan, verbose=0)
+    assert "roi" in result.table[1]["error"] and "FailingPressesError" not in result.table[1]["error"]
+
+
 def test_an_error_no_press_raises_alone_is_raised_as_it_is():
     from sklearn_hardness.experiments._per_press import _fit_transform_chunk
 

@@ -132,8 +132,8 @@ def test_oracle_recycles_objects_of_a_class_once_all_are_pressed_out():
 
 
 def test_recycling_hands_out_every_unseen_press_before_a_reused_one():
-    # the first 4 presses empty "a" and take 2 of "b"'s 4; asked for 4 more, the class has 2 unseen
-    # (both "b"'s): they come first, before any press of "a" is reused (both objects tie at 2 presses)
+    # the first 4 presses leave 2 unseen (which object's depends on the seed's ties); asked for 4 more,
+    # the class has those 2 unseen: they come first, before any press is reused
     y = np.zeros(6, int)
     groups = np.array(["a", "a", "b", "b", "b", "b"])
     for seed in range(10):

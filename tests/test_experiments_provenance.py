@@ -80,19 +80,25 @@ def test_machine_reference_measures_the_matmul_rate():
     assert isinstance(gflops, float) and 0.1 < gflops < 1e5
 
 
-def test_machine_reference_names_the_kernels_blas_chose():
-    # OpenBLAS picks kernels per CPU (OPENBLAS_CORETYPE overrides it); runs that refit a model between
-    # choices move in their last digits with them, so the provenance says which ran
-    import subprocess
-    import sys
+def test_machine_reference_names_the_kernels_blas_runs_and_what_chose_them():
+    # OpenBLAS runs the kernels it picks for the CPU or those OPENBLAS_CORETYPE names; runs that refit a
+    # model between choices move in their last digits with them, so the provenance says which ran
+    from threadpoolctl import threadpool_info
 
+    from sklearn_hardness.experiments._provenance import _blas
+
+    libraries = [lib for lib in threadpool_info() if lib.get("user_api") == "blas"]
+    assert libraries, "numpy and scipy load a BLAS"
     blas = machine_reference(matmul=False)["blas"]
-    if "openblas" not in (blas or "") or platform.machine() not in ("x86_64", "AMD64"):
-        pytest.skip(f"OpenBLAS on x86-64 only (CI's); this machine has {blas} on {platform.machine()}")
-    code = "from sklearn_hardness.experiments import machine_reference; print(machine_reference(matmul=False)['blas'])"
-    env = {**os.environ, "OPENBLAS_CORETYPE": "Sandybridge"}
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True).stdout
-    assert "openblas" in out and all(part.endswith("Sandybridge") for part in out.strip().split("; ")), out
+    for lib in libraries:
+        assert f"{lib['internal_api']} {lib['version']}" in blas
+        if lib.get("architecture"):
+            assert f"{lib['version']} {lib['architecture']}" in blas
+    # the variables that steer OpenBLAS are named where set, read from the environment given
+    plain = _blas(environ={})
+    assert "(" not in plain and plain.startswith(blas.split(" (")[0])
+    steered = _blas(environ={"OPENBLAS_CORETYPE": "Haswell", "OPENBLAS_L2_SIZE": "512", "OTHER": "1"})
+    assert steered == plain + " (OPENBLAS_CORETYPE=Haswell, OPENBLAS_L2_SIZE=512)"
 
 
 def test_recorded_command_leaves_out_where_output_goes():

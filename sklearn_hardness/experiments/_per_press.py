@@ -151,16 +151,22 @@ def _fit_transform_chunk(prefix, X, rows):
     Where the chunk fails, each of its presses runs alone (the steps map each
     press by itself, so a press fails alone where it fails in the chunk) and
     ``failures`` lists those that fail, ``(index among all presses,
-    message)``. Where none fails alone, the chunk's error is raised as it is.
+    message)``. The chunk's error is raised as it is where no press fails
+    alone, and where the first press fails alone with the very same error
+    naming no press (a parameter, weights that cannot be loaded: an error of
+    the steps, not of the presses, which every press would repeat).
     """
     try:
         Xt, found = _transform_chunk(prefix, X, rows)
-    except Exception:
+    except Exception as chunk_exc:
         failures = []
-        for i in rows:
+        for k, i in enumerate(rows):
             try:
                 _transform_chunk(prefix, X, [i])
             except Exception as exc:  # noqa: BLE001 - reported with the press it failed on
+                if k == 0 and type(exc) is type(chunk_exc) and str(exc) == str(chunk_exc) \
+                        and not re.search(r"\bX\[\d+\]", str(exc)):
+                    raise chunk_exc from None
                 message = re.sub(r"\bX\[0\]", "the press", str(exc))
                 failures.append((int(i), f"{type(exc).__name__}: {message}"))
         if not failures:

@@ -6,7 +6,7 @@ names the command, the configuration hash, a fingerprint of the code (its syntax
 tree without docstrings or comments, so rewording the documentation changes
 nothing while any change of code does), the git commit, the machine (with the
 single-thread float32 matrix-product rate of ``benchmarks/bench_flops.py`` as its
-speed reference, and the kernels its BLAS chose) and the date. Tests then compare
+speed reference, and the kernels its BLAS runs) and the date. Tests then compare
 the fingerprint and the configuration hash with the current code's, on any machine.
 """
 
@@ -160,22 +160,32 @@ def _cpu_model():
     return platform.processor() or platform.machine()
 
 
-def _blas():
-    """The BLAS libraries loaded, each with the kernels it chose: e.g. ``"openblas 0.3.31 Haswell"``.
+#: Environment variables that steer OpenBLAS's kernels and blocking, recorded where set.
+_OPENBLAS_VARIABLES = ("OPENBLAS_CORETYPE", "OPENBLAS_L2_SIZE")
 
-    OpenBLAS picks its kernels for the CPU when it loads (the environment
-    variable ``OPENBLAS_CORETYPE`` overrides the choice), and kernels round
-    sums differently. A run whose choices follow its floats (posterior samples
-    of a refitted model) gives the same digits on any machine where the same
-    kernels ran, and can differ in the last digits elsewhere. None where
-    ``threadpoolctl`` finds no BLAS.
+
+def _blas(environ=None):
+    """The BLAS libraries loaded, each with the kernels it runs: e.g. ``"openblas 0.3.31 Haswell"``.
+
+    OpenBLAS picks its kernels for the CPU when it loads, unless the
+    environment variable ``OPENBLAS_CORETYPE`` names others (some machine
+    images set it, with ``OPENBLAS_L2_SIZE``, where older builds fail with
+    their own choice); kernels round sums differently. A run whose choices
+    follow its floats (posterior samples of a refitted model) gives the same
+    digits where the same kernels ran, and can differ in the last digits
+    elsewhere. Those variables, where set in ``environ`` (``os.environ`` when
+    None), follow in brackets. None where ``threadpoolctl`` finds no BLAS.
     """
     import scipy.linalg  # noqa: F401 - scipy's BLAS is loaded too
     from threadpoolctl import threadpool_info
 
+    environ = os.environ if environ is None else environ
     found = {" ".join(str(lib[key]) for key in ("internal_api", "version", "architecture") if lib.get(key))
              for lib in threadpool_info() if lib.get("user_api") == "blas"}
-    return "; ".join(sorted(found)) or None
+    if not found:
+        return None
+    steered = [f"{name}={environ[name]}" for name in _OPENBLAS_VARIABLES if environ.get(name)]
+    return "; ".join(sorted(found)) + (f" ({', '.join(steered)})" if steered else "")
 
 
 def machine_reference(matmul=True):
@@ -191,9 +201,11 @@ def machine_reference(matmul=True):
     machine : dict
         ``cpu`` (model name), ``cores`` (``os.cpu_count()``), ``torch_threads``,
         ``torch``, ``numpy``, ``python`` (versions), ``blas`` (the BLAS
-        libraries and the kernels they chose for this CPU, e.g. ``"openblas
-        0.3.31.188.0 Haswell"``: runs that refit a model between choices give
-        the same digits where the same kernels ran), ``matmul_gflops`` (one
+        libraries and the kernels they run, e.g. ``"openblas 0.3.31.188.0
+        Haswell (OPENBLAS_CORETYPE=Haswell, OPENBLAS_L2_SIZE=512)"``, with the
+        environment variables that chose them where set: runs that refit a
+        model between choices give the same digits where the same kernels
+        ran), ``matmul_gflops`` (one
         thread, float32, 2048^3; None without ``matmul``) and ``load`` (the
         1-minute load average when measured, None where the system does not
         give it: a rate measured on a busy machine is lower).
