@@ -263,3 +263,21 @@ def test_select_writes_json_and_csv(tmp_path, capsys):
         rows = list(csv.DictReader(f))
     assert [r["label"] for r in rows] == [r["label"] for r in records]
     assert rows[0]["selected"] == " ".join(map(str, records[0]["selected"]))
+
+
+def test_a_one_frame_press_is_named_by_its_file_in_select_and_the_experiments(tmp_path, capsys):
+    # the selection needs two frames; the error says which press of the manifest, not which of a chunk
+    from sklearn_hardness.datasets import load_press_videos
+    from sklearn_hardness.experiments._data import _select_frames
+    from sklearn_hardness.io import read_video, write_video
+
+    manifest, _ = _write_dataset(tmp_path, n_per_class=20)
+    data = load_press_videos(manifest)
+    cut = data.paths[37]
+    write_video(cut, read_video(cut)[:1])
+    with pytest.raises(SystemExit, match="2"):
+        main(["select", str(manifest)])
+    assert f"X[37] ({cut}) has 1 frame(s); at least 2 are needed" in capsys.readouterr().err
+    params = dict(output_size=(8, 10), n_between=2, color="gray", subtract_first=True)
+    with pytest.raises(ValueError, match=rf"^press 37 \({cut}\) has 1 frame\(s\)"):  # 37 is X[5] of its chunk
+        _select_frames(load_press_videos(manifest).videos, params, verbose=False)

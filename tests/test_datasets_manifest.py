@@ -185,3 +185,21 @@ def test_errors_name_the_file_line_past_empty_rows(tmp_path):
     manifest.write_text("\n".join(text) + "\n")
     with pytest.raises(ValueError, match="line 5: empty 'label'"):
         load_press_videos(manifest)
+
+
+def test_manifest_cells_beyond_the_header_encoding_and_fps_are_checked(tmp_path):
+    # what a spreadsheet or a hand-edited file gives: nothing is dropped or misread silently
+    write_video(tmp_path / "a.avi", np.zeros((4, 16, 16, 3), np.uint8))
+    manifest = tmp_path / "manifest.csv"
+    manifest.write_text("path,label\na.avi,soft,extra\n")  # an unquoted comma in a cell, or no column name
+    with pytest.raises(ValueError, match=r"line 2 has more cells than the header's 2 columns \(\['extra'\]"):
+        load_press_videos(manifest)
+    manifest.write_text("path,label,,\na.avi,soft,,\n")  # empty trailing cells are no data
+    assert load_press_videos(manifest).target_names.tolist() == ["soft"]
+    manifest.write_bytes("path,label\na.avi,d\xe9j\xe0 vu\n".encode("cp1252"))  # Excel's "CSV" on Windows
+    with pytest.raises(ValueError, match=r"manifest.csv' is not UTF-8 text \(byte 18.*CSV UTF-8"):
+        load_press_videos(manifest)
+    for fps in ("0", "-5"):
+        manifest.write_text(f"path,label,fps\na.avi,soft,{fps}\n")
+        with pytest.raises(ValueError, match=r"line 2: column 'fps' must be positive"):
+            load_press_videos(manifest)

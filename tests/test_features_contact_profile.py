@@ -216,3 +216,13 @@ def test_a_grid_search_over_features_finds_the_one_that_tells_the_classes():
     assert scores["['log_loading_time']"] >= 0.9
     assert scores["['area_at_peak']"] <= 0.6
     assert grid.best_estimator_["clf"].coef_.shape == (3, 1)
+
+
+def test_uint16_frames_give_the_features_of_the_same_frames_in_uint8():
+    # 16-bit frames are read in 0..255 intensity units, as the contact curve reads them
+    video = growing_disc_press(6, 8, np.random.default_rng(0))
+    as16 = video.astype(np.uint16) * 257
+    features = ContactProfileFeatures()
+    np.testing.assert_allclose(features.fit_transform([as16]), features.fit_transform([video]), rtol=1e-5,
+                               atol=1e-6)
+

@@ -162,3 +162,14 @@ def test_cli_record_refuses_an_object_id_recorded_with_another_label(camera, tmp
     assert len(list((out / "videos").iterdir())) == 1  # checked before recording
     main(args[:-1] + ["hard-1", "--label", "hard"])
     assert load_press_videos(out / "manifest.csv").object_id.tolist() == ["1", "hard-1"]
+
+
+def test_cli_record_of_one_frame_adds_no_row(tmp_path, capsys):
+    source = tmp_path / "one.avi"
+    write_video(source, synthetic_press(n_frames=30, size=(48, 64))[:1], fps=25)
+    out = tmp_path / "presses"
+    with pytest.raises(SystemExit, match="2"):
+        main(["record", "--source", str(source), "--label", "soft", "--out", str(out), "--n-frames", "30"])
+    err = capsys.readouterr().err
+    assert "recorded 1 frame(s)" in err and "nothing was added to the manifest" in err
+    assert not (out / "manifest.csv").exists() and not list((out / "videos").glob("*"))

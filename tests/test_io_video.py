@@ -115,3 +115,26 @@ def test_write_rejects_bad_input(tmp_path, frames):
 
         check_video(bad)
     assert not os.path.exists(tmp_path / "p.avi")
+
+
+def test_a_file_cut_short_is_an_error_not_a_shorter_video(tmp_path):
+    # an interrupted recording or copy decodes as fewer frames than its header claims
+    rng = np.random.default_rng(1)
+    path = tmp_path / "press.avi"
+    write_video(path, rng.integers(0, 256, size=(60, 24, 32, 3), dtype=np.uint8), fps=25)
+    assert read_video(path).shape[0] == 60  # complete: as many frames as its header claims
+    data = path.read_bytes()
+    cut = tmp_path / "cut.avi"
+    cut.write_bytes(data[: int(0.4 * len(data))])
+    with pytest.raises(ValueError, match=r"cut.avi' decodes \d+ of the 60 frames its header claims"):
+        read_video(cut)
+    assert read_video(cut, max_frames=5).shape[0] == 5  # the frames asked for are there
+
+
+def test_uint16_npy_is_read_as_uint8_by_its_high_byte(tmp_path, frames):
+    # as 16-bit images are: the documented output is uint8 whatever the file holds
+    path = tmp_path / "press16.npy"
+    np.save(path, frames.astype(np.uint16) * 257)
+    video = read_video(path)
+    assert video.dtype == np.uint8
+    np.testing.assert_array_equal(video, frames)

@@ -75,6 +75,11 @@ def _run_record(args):
             with contextlib.suppress(OSError):
                 folder.rmdir()
         raise
+    if len(frames) < 2:  # no press: contact selection needs two frames; nothing goes into the manifest
+        with contextlib.suppress(OSError):
+            video_path.unlink()
+        raise _UsageError(f"recorded {len(frames)} frame(s) from {args.source!r}: a press needs at least 2 "
+                          "(the source ended early?); nothing was added to the manifest")
     append_manifest_row(out / "manifest.csv", columns, row)
     print(f"recorded {len(frames)} frames of {frames.shape[2]}x{frames.shape[1]} to {video_path}")
     print(f"appended to {out / 'manifest.csv'}: {row}")

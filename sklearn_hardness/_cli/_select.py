@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import sys
 
 from ._common import _add_quiet, _add_roi, _nonnegative_int, _threshold, _UsageError, _user_errors
@@ -99,6 +100,10 @@ def _run_select(args):
         except (ValueError, TypeError, OSError) as exc:
             with _user_errors():  # every video that cannot be read, in one error
                 raise_unreadable(data.videos, exc)
+                if isinstance(exc, ValueError):  # a press the selection cannot take: name its file
+                    raise ValueError(re.sub(r"\bX\[(\d+)\]",
+                                            lambda m: f"{m.group(0)} ({data.paths[int(m.group(1))]})",
+                                            str(exc))) from exc
             raise
     records = [
         {"video": i, "path": str(data.paths[i]), "label": str(data.target_names[data.target[i]]),

@@ -73,6 +73,13 @@ def _float_or_raise(value, column, row_number, manifest):
     return out
 
 
+def _positive_or_raise(value, column, row_number, manifest):
+    out = _float_or_raise(value, column, row_number, manifest)
+    if out <= 0:
+        raise ValueError(f"{manifest}: line {row_number}: column '{column}' must be positive, got {value!r}.")
+    return out
+
+
 def _object_ids(rows, lines, manifest):
     """The object of every row: its ``object_id``, or its label where the manifest names no object.
 
@@ -209,12 +216,27 @@ def load_press_videos(manifest, *, cache_size=0):
     if not manifest.is_file():
         raise FileNotFoundError(f"Manifest not found: '{manifest}'.")
     root = manifest.parent
-    with open(manifest, newline="", encoding="utf-8-sig") as f:
-        reader = csv.DictReader(f)
-        columns = [c.strip() for c in (reader.fieldnames or [])]
-        # each row with the file's line it ends on, so that errors name that line
-        read = [({k.strip(): (v or "").strip() for k, v in row.items() if k is not None}, reader.line_num)
-                for row in reader]
+    try:
+        with open(manifest, newline="", encoding="utf-8-sig") as f:
+            reader = csv.DictReader(f)
+            columns = [c.strip() for c in (reader.fieldnames or [])]
+            # each row with the file's line it ends on, so that errors name that line
+            read = []
+            for row in reader:
+                extra = [v for v in row.get(None, []) if v.strip()]  # cells beyond the header's columns
+                if extra:
+                    raise ValueError(
+                        f"{manifest}: line {reader.line_num} has more cells than the header's {len(columns)} "
+                        f"columns ({extra} left over): quote a cell that holds a comma, or name the column "
+                        "in the header."
+                    )
+                read.append(({k.strip(): (v or "").strip() for k, v in row.items() if k is not None},
+                             reader.line_num))
+    except UnicodeDecodeError as exc:
+        raise ValueError(
+            f"Manifest '{manifest}' is not UTF-8 text (byte {exc.start}: {exc.reason}); save it as "
+            "\"CSV UTF-8\" (a spreadsheet's export), or convert it, e.g. `iconv -f cp1252 -t utf-8`."
+        ) from None
     missing_cols = [c for c in _REQUIRED if c not in columns]
     if missing_cols:
         raise ValueError(
@@ -280,7 +302,7 @@ def load_press_videos(manifest, *, cache_size=0):
 
     fps = np.array(
         [
-            _float_or_raise(row["fps"], "fps", i, manifest) if row.get("fps") else np.nan
+            _positive_or_raise(row["fps"], "fps", i, manifest) if row.get("fps") else np.nan
             for i, row in zip(lines, rows)
         ]
     )

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import re
 import tempfile
 import warnings
 
@@ -97,7 +98,17 @@ def _select_frames(videos, frame_params, verbose, n_jobs=None):
             for start in range(0, n, chunk):
                 idx = np.arange(start, min(n, start + chunk))
                 part = videos[idx] if hasattr(videos, "shape") else [videos[i] for i in idx]
-                out.append(selector.fit_transform(part))  # one pass: frames and selection_
+                try:
+                    out.append(selector.fit_transform(part))  # one pass: frames and selection_
+                except ValueError as exc:  # it names X[k] of the chunk: say which press of the dataset
+                    keys = getattr(videos, "keys", None)  # a manifest's lazy videos: their files
+
+                    def press(m):
+                        i = start + int(m.group(1))
+                        path = keys[i] if keys is not None and isinstance(keys[i], (str, os.PathLike)) else None
+                        return f"press {i}" + (f" ({path})" if path is not None else "")
+
+                    raise ValueError(re.sub(r"\bX\[(\d+)\]", press, str(exc))) from exc
                 n_fallback += int(np.sum(~np.asarray(selector.selection_.contact_found)))
                 bar.update(len(idx))
     if n_fallback:

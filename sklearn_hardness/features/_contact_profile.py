@@ -41,7 +41,9 @@ def _grey_small(video, max_side, roi=None, name="video"):
     h, w = video.shape[1:3]
     stride = max(1, max(h, w) // max_side)
     small = video[:, ::stride, ::stride].astype(np.float32)
-    if small.max(initial=0) <= 1.0 and video.dtype.kind == "f":
+    if video.dtype == np.uint16:  # 0..255 intensity units, as the contact curve reads them
+        small /= 257.0
+    elif small.max(initial=0) <= 1.0 and video.dtype.kind == "f":
         small = small * 255.0
     return small.mean(axis=-1) if small.ndim == 4 else small
 

@@ -91,6 +91,13 @@ def _read_container(path, max_frames):
             f"Video file '{path}' has zero decodable frames"
             + (f" (its header claims {n_hint})." if n_hint else ".")
         )
+    # a file cut short (an interrupted recording or copy) decodes as a shorter video; a header's count
+    # can be off by a frame or two where it is estimated, so only a larger shortfall is an error
+    if max_frames is None and n_hint - len(frames) > max(2, n_hint // 20):
+        raise ValueError(
+            f"Video file '{path}' decodes {len(frames)} of the {n_hint} frames its header claims: it "
+            "looks cut short (an interrupted recording or copy). Record or copy it again, or remove it."
+        )
     return np.stack(frames)
 
 
@@ -108,7 +115,8 @@ def read_video(path, *, max_frames=None):
     ----------
     path : str or path-like
         A video file (``.mp4``, ``.avi``, ``.mov``, ``.mkv``, ``.m4v``), a
-        ``.npy`` file holding a ``(T, H, W, 3)`` ``uint8`` array, or a folder
+        ``.npy`` file holding a ``(T, H, W, 3)`` ``uint8`` array (``uint16``
+        is converted to ``uint8`` by its high byte, as 16-bit images are), or a folder
         of numbered images (``frame_1.png``, ``frame_2.png``, ...; sorted by
         the numbers in their names, so ``10`` comes after ``9``).
     max_frames : int or None, default=None
@@ -124,7 +132,9 @@ def read_video(path, *, max_frames=None):
     FileNotFoundError
         If ``path`` does not exist.
     ValueError
-        If the file cannot be decoded or holds no frames.
+        If the file cannot be decoded or holds no frames, or if a video
+        file decodes fewer frames than its header claims (more than two and
+        more than 5% fewer: a file cut short).
 
     See Also
     --------
@@ -154,6 +164,8 @@ def read_video(path, *, max_frames=None):
                 f"{type(exc).__name__}: {exc}"
             ) from None
         arr = check_video(arr, name=f"'{path}'", allow_float=False)
+        if arr.dtype == np.uint16:  # as 16-bit images are read: the high byte
+            arr = (arr >> 8).astype(np.uint8)
         if arr.shape[-1] == 1:
             arr = np.repeat(arr, 3, axis=-1)
         return np.ascontiguousarray(arr[:max_frames])
