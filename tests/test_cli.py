@@ -16,6 +16,13 @@ def test_select_command(tmp_path, capsys):
     assert (tmp_path / "c.png").stat().st_size > 1000
 
 
+def test_select_takes_a_folder_holding_the_manifest(tmp_path, capsys):
+    # as evaluate and reproduce do
+    _write_dataset(tmp_path)
+    assert main(["select", str(tmp_path), "--n-between", "1"]) == 0
+    assert "contact found in 6 of 6 videos" in capsys.readouterr().out
+
+
 def test_no_command_prints_help(capsys):
     assert main([]) == 2
     assert "select" in capsys.readouterr().out

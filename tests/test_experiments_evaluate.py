@@ -733,6 +733,9 @@ def test_loading_compliance_without_position_is_an_error_that_says_what_to_give(
     cut.position = [p[:-1] if i == 4 else p for i, p in enumerate(tiny.position)]
     with pytest.raises(ValueError, match="press 4 has .* force values but .* positions"):
         evaluate_pipelines(cut, ["loading_compliance"], cv=3, verbose=0)
+    cut.paths = [f"videos/press_{i}.avi" for i in range(len(cut.target))]  # a manifest's: its video named
+    with pytest.raises(ValueError, match=r"press 4 \(videos/press_4.avi\) has .* force values but"):
+        evaluate_pipelines(cut, ["loading_compliance"], cv=3, verbose=0)
 
 
 def test_cli_evaluates_loading_compliance_on_a_simulated_manifest(tmp_path, capsys):

@@ -19,7 +19,8 @@ def _add_select(sub):
         "per video, the contact start, peak and the selected frame indices (a table, or CSV or "
         "JSON with --format / --output).",
     )
-    p.add_argument("manifest", help="CSV manifest (see sklearn_hardness.datasets.load_press_videos)")
+    p.add_argument("manifest", help="CSV manifest, or a folder holding manifest.csv "
+                   "(see sklearn_hardness.datasets.load_press_videos)")
     p.add_argument("--n-between", type=_nonnegative_int, default=2,
                    help="frames kept between first and last (default 2)")
     p.add_argument("--threshold", type=_threshold, default="auto",
@@ -89,7 +90,9 @@ def _run_select(args):
     fmt = _select_format(args)
     with _user_errors():
         roi = check_roi(args.roi)
-        data = load_press_videos(args.manifest)
+        # a folder holding manifest.csv, as evaluate and reproduce take it
+        manifest = os.path.join(args.manifest, "manifest.csv") if os.path.isdir(args.manifest) else args.manifest
+        data = load_press_videos(manifest)
     selector = ContactFrameSelector(n_between=args.n_between, threshold=args.threshold, roi=roi,
                                     on_no_contact="fallback")
     with warnings.catch_warnings():

@@ -39,9 +39,12 @@ def force_position(data, names):
             "position_path columns (position in mm, growing as the sensor moves into the object), or a "
             "dataset Bunch with force and position lists.")
     out = []
+    paths = getattr(data, "paths", None)  # a manifest's: name the press by its video too
     for i, (f, z) in enumerate(zip(data.force, data.position)):
         f, z = _per_frame(f, "force", i), _per_frame(z, "position", i)
         if len(f) != len(z):
-            raise ValueError(f"press {i} has {len(f)} force values but {len(z)} positions; both are per frame.")
+            video = f" ({paths[i]})" if paths is not None else ""
+            raise ValueError(f"press {i}{video} has {len(f)} force values but {len(z)} positions; both are per "
+                             "frame.")
         out.append(np.column_stack([f, z]))
     return out
