@@ -203,3 +203,15 @@ def test_manifest_cells_beyond_the_header_encoding_and_fps_are_checked(tmp_path)
         manifest.write_text(f"path,label,fps\na.avi,soft,{fps}\n")
         with pytest.raises(ValueError, match=r"line 2: column 'fps' must be positive"):
             load_press_videos(manifest)
+
+
+def test_a_per_frame_series_saved_as_a_table_is_an_error(tmp_path):
+    # a (time, force) export read as one series interleaved time and force values
+    write_video(tmp_path / "a.avi", np.zeros((4, 16, 16, 3), np.uint8))
+    np.savetxt(tmp_path / "force.csv", np.column_stack([np.arange(4) / 25, np.linspace(0, 3, 4)]), delimiter=",")
+    np.save(tmp_path / "column.npy", np.linspace(0, 3, 4)[:, None])  # one column: a series
+    (tmp_path / "manifest.csv").write_text("path,label,force_path,position_path\na.avi,soft,force.csv,column.npy\n")
+    with pytest.raises(ValueError, match=r"force.csv' holds a table of shape \(4, 2\); a per-frame series"):
+        load_press_videos(tmp_path / "manifest.csv")
+    (tmp_path / "manifest.csv").write_text("path,label,force_path,position_path\na.avi,soft,column.npy,column.npy\n")
+    assert load_press_videos(tmp_path / "manifest.csv").force[0].shape == (4,)

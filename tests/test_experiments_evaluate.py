@@ -738,6 +738,16 @@ def test_loading_compliance_without_position_is_an_error_that_says_what_to_give(
         evaluate_pipelines(cut, ["loading_compliance"], cv=3, verbose=0)
 
 
+def test_the_loading_phase_note_says_where_the_recording_breaks_the_conventions(tiny):
+    # the folds silence LoadingCompliance's warnings; a position that falls (a gripper's width) is said once
+    width = Bunch(**tiny)
+    width.position = [-z for z in tiny.position]
+    notes = evaluate_pipelines(width, ["loading_compliance"], cv=3, verbose=0).notes
+    assert len(notes) == 1 and "the position falls as the force rises" in notes[0]
+    assert "the position falls" not in " ".join(evaluate_pipelines(tiny, ["loading_compliance"], cv=3,
+                                                                   verbose=0).notes)
+
+
 def test_cli_evaluates_loading_compliance_on_a_simulated_manifest(tmp_path, capsys):
     root = tmp_path / "presses"
     assert main(["simulate", "--preset", "everyday", "--out", str(root), "--n-per-class", "1",

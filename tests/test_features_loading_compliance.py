@@ -216,3 +216,25 @@ def test_active_sampling_runs_on_force_and_position_and_its_uncertainty_shrinks_
     learner.teach(X[6:], y[6:])
     assert spread() < 0.5 * before  # 15x the presses: the posterior narrows
     assert (learner.predict(X[6:]) == y[6:]).mean() >= 0.7  # classes overlap (30% spread): about 0.8 at best
+
+
+def test_a_recording_against_the_input_conventions_is_warned_about():
+    # a flipped force sign, a position that falls (a gripper's width) or one in metres makes every press
+    # alike after the log floor: the warning says what to fix, where most presses break the convention
+    from sklearn_hardness.features._loading_compliance import ConventionWarning
+
+    presses = [hertz_press(c, 5.0) for c in np.linspace(0.2, 1.5, 12)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ConventionWarning)
+        LoadingCompliance().fit_transform(presses)  # the conventions: no warning
+        # one rigid press fitting a compliance below zero is no recording to fix
+        LoadingCompliance().fit_transform(presses[1:] + [np.column_stack([presses[0][:, 0], -presses[0][:, 1]])])
+    cases = {
+        "force mostly below zero: a compressive force must be positive":
+            [np.column_stack([-p[:, 0], p[:, 1]]) for p in presses],
+        "the position falls as the force rises": [np.column_stack([p[:, 0], -p[:, 1]]) for p in presses],
+        "is the position in metres": [np.column_stack([p[:, 0], p[:, 1] / 1000]) for p in presses[:6]],
+    }
+    for message, flipped in cases.items():
+        with pytest.warns(ConventionWarning, match=message):
+            LoadingCompliance().fit_transform(flipped)

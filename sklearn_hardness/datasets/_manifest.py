@@ -32,7 +32,14 @@ def _read_series(path):
             arr = np.loadtxt(path, delimiter="," if path.suffix.lower() == ".csv" else None, ndmin=1)
         except ValueError as exc:
             raise ValueError(f"Could not parse numbers in '{path}': {exc}") from None
-    arr = np.asarray(arr, dtype=float).ravel()
+    arr = np.asarray(arr, dtype=float)
+    if arr.ndim > 1 and sum(n > 1 for n in arr.shape) > 1:  # a table, not one column or one row
+        raise ValueError(
+            f"'{path}' holds a table of shape {arr.shape}; a per-frame series is one number per frame (one "
+            "column or one row): save that column alone (a (time, value) export's time goes to "
+            "timestamps_path; of a multi-axis force, the component normal to the gel)."
+        )
+    arr = arr.ravel()
     if not np.isfinite(arr).all():
         raise ValueError(f"'{path}' contains NaN or infinite values.")
     return arr

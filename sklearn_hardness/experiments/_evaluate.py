@@ -31,6 +31,7 @@ from ..datasets import load_press_videos, make_presses
 from ..datasets._lazy import raise_unreadable
 from ..datasets._sim_presets import PRESETS
 from ..features import LoadingCompliance, OpticalFlowFeatures
+from ..features._loading_compliance import ConventionWarning
 from ..metrics import hardness_mae
 from ..preprocessing._contact_curve import _STATUSES
 from ..utils._random import int_seed
@@ -276,8 +277,8 @@ def _loading_phase_note(estimator, rows, name):
         # the class itself, not a subclass given in a dict: the folds alone fit the user's estimators
         first = LoadingCompliance(**{k: v for k, v in first.get_params(deep=False).items()
                                      if k in LoadingCompliance._get_param_names()})
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", UserWarning)  # counted here instead
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", UserWarning)  # counted here instead, or said below
             missing = int(np.isnan(first.fit_transform(rows)).any(axis=1).sum())
     except Exception:  # noqa: BLE001 - the folds meet the same error, where error_score decides
         return None
@@ -286,7 +287,9 @@ def _loading_phase_note(estimator, rows, name):
         text += (f"; none on {missing} (no positive force, or fewer than {first.min_loading_frames} frames from "
                  f"{first.onset:g} of the peak force to the peak): their figures are NaN, for an imputer in the "
                  "pipeline to fill")
-    return text
+    # the input's conventions (force sign, position's direction and unit): the folds' warnings are silenced
+    conventions = [str(w.message) for w in caught if issubclass(w.category, ConventionWarning)]
+    return "; ".join([text, *conventions])
 
 
 def _fit_fold(name, estimator, X, y, groups, train, test, hardness, error_score):

@@ -42,6 +42,42 @@ def _loading_figures(press, onset, min_frames, drive_compliance):
     return np.array([hertz, linear, travel, f_peak])
 
 
+class ConventionWarning(UserWarning):
+    """Most presses break a convention of the input: force positive, position in mm growing inwards."""
+
+
+def _listed(indices):
+    return ", ".join(map(str, indices[:10])) + (", ..." if len(indices) > 10 else "")
+
+
+def _warn_on_conventions(presses, hertz):
+    """Warn where most presses break the input's conventions (force positive, position in mm growing inwards).
+
+    Each check counts presses, and warns where more than half of them break
+    it: one rigid object can fit a compliance of zero or below, or a press
+    without contact be noise around zero, but a whole recording with a
+    flipped sign or another unit is an input to fix.
+    """
+    half = len(presses) / 2
+    negative = [i for i, p in enumerate(presses) if -p[:, 0].min() > 3 * max(p[:, 0].max(), 0.0)]
+    if negative and len(negative) > half:
+        warnings.warn(
+            f"{len(negative)} of {len(presses)} presses (X[{_listed(negative)}]) have their force mostly below "
+            "zero: a compressive force must be positive (negate it).", ConventionWarning,
+            stacklevel=external_stacklevel())
+    falling = np.flatnonzero(hertz <= 0.0)
+    if len(falling) and len(falling) > half:
+        warnings.warn(
+            f"on {len(falling)} of {len(presses)} presses (X[{_listed(falling)}]) the position falls as the force "
+            "rises: the position must grow as the sensor moves into the object (a gripper's closing, not its "
+            "width; negate a position that falls).", ConventionWarning, stacklevel=external_stacklevel())
+    tiny = np.flatnonzero((hertz > 0.0) & (hertz < 1e-3))
+    if len(tiny) and len(tiny) > half:
+        warnings.warn(
+            f"{len(tiny)} of {len(presses)} presses (X[{_listed(tiny)}]) move under a micrometre per N^(2/3): "
+            "is the position in metres? It must be in mm.", ConventionWarning, stacklevel=external_stacklevel())
+
+
 class LoadingCompliance(TransformerMixin, BaseEstimator):
     """How far the sensor moves into the object per unit force while it loads.
 
@@ -68,7 +104,10 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
     (a video cut short) or no positive force gets NaN for the figures it
     cannot fit, with a warning that names it; put an imputer after this
     step (:func:`~sklearn_hardness.models.make_loading_compliance_pipeline`
-    does).
+    does). Where most presses break the input's conventions (a force mostly
+    below zero, a position that falls as the force rises, or one that moves
+    under a micrometre per N^(2/3), as a position in metres would), a
+    warning says what to fix.
 
     Parameters
     ----------
@@ -176,6 +215,7 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
         rows = np.vstack([_loading_figures(p, self.onset, self.min_loading_frames, self.drive_compliance)
                           for p in presses])
         out = rows[:, feature_columns(self.features_, FEATURE_NAMES)]
+        _warn_on_conventions(presses, rows[:, 0])
         bad = np.flatnonzero(np.isnan(out).any(axis=1))
         if len(bad):
             shown = ", ".join(map(str, bad[:10])) + (", ..." if len(bad) > 10 else "")
