@@ -17,7 +17,7 @@ def test_select_command(tmp_path, capsys):
 
 
 def test_select_takes_a_folder_holding_the_manifest(tmp_path, capsys):
-    # as evaluate and reproduce do
+    # as evaluate does
     _write_dataset(tmp_path)
     assert main(["select", str(tmp_path), "--n-between", "1"]) == 0
     assert "contact found in 6 of 6 videos" in capsys.readouterr().out
