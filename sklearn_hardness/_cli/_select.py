@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-import re
 import sys
 
 from ._common import _add_quiet, _add_roi, _nonnegative_int, _threshold, _UsageError, _user_errors
@@ -84,15 +83,14 @@ def _run_select(args):
 
     from ..datasets import load_press_videos
     from ..datasets._lazy import raise_unreadable
+    from ..datasets._manifest import manifest_file
     from ..preprocessing import ContactFrameSelector
-    from ..utils._validation import check_roi
+    from ..utils._validation import check_roi, rename_videos
 
     fmt = _select_format(args)
     with _user_errors():
         roi = check_roi(args.roi)
-        # a folder holding manifest.csv, as evaluate and reproduce take it
-        manifest = os.path.join(args.manifest, "manifest.csv") if os.path.isdir(args.manifest) else args.manifest
-        data = load_press_videos(manifest)
+        data = load_press_videos(manifest_file(args.manifest))  # or a folder holding it, as evaluate takes
     selector = ContactFrameSelector(n_between=args.n_between, threshold=args.threshold, roi=roi,
                                     on_no_contact="fallback")
     with warnings.catch_warnings():
@@ -104,9 +102,7 @@ def _run_select(args):
             with _user_errors():  # every video that cannot be read, in one error
                 raise_unreadable(data.videos, exc)
                 if isinstance(exc, ValueError):  # a press the selection cannot take: name its file
-                    raise ValueError(re.sub(r"\bX\[(\d+)\]",
-                                            lambda m: f"{m.group(0)} ({data.paths[int(m.group(1))]})",
-                                            str(exc))) from exc
+                    raise ValueError(rename_videos(str(exc), lambda i: f"X[{i}] ({data.paths[i]})")) from exc
             raise
     records = [
         {"video": i, "path": str(data.paths[i]), "label": str(data.target_names[data.target[i]]),

@@ -120,6 +120,12 @@ def _object_ids(rows, lines, manifest):
     return np.array(ids)
 
 
+def manifest_file(path):
+    """``path``, or the ``manifest.csv`` in it where ``path`` is a folder (as ``record`` writes one)."""
+    path = Path(os.fspath(path))
+    return path / "manifest.csv" if path.is_dir() else path
+
+
 @validate_params(
     {
         "manifest": [str, os.PathLike],

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import hashlib
 import os
-import re
 import tempfile
 import warnings
 
@@ -26,6 +25,7 @@ from ..datasets._lazy import raise_unreadable
 from ..features import ContactProfileFeatures, DINOv2Features, LoadingCompliance, OpticalFlowFeatures
 from ..models._pipelines import _log_positive
 from ..preprocessing import ContactFrameSelector
+from ..utils._validation import rename_videos
 from ..utils._warnings import external_stacklevel
 from ._config import MODEL_NAMES
 from ._force_position import force_position
@@ -103,12 +103,12 @@ def _select_frames(videos, frame_params, verbose, n_jobs=None):
                 except ValueError as exc:  # it names X[k] of the chunk: say which press of the dataset
                     keys = getattr(videos, "keys", None)  # a manifest's lazy videos: their files
 
-                    def press(m):
-                        i = start + int(m.group(1))
+                    def press(k):
+                        i = start + k
                         path = keys[i] if keys is not None and isinstance(keys[i], (str, os.PathLike)) else None
                         return f"press {i}" + (f" ({path})" if path is not None else "")
 
-                    raise ValueError(re.sub(r"\bX\[(\d+)\]", press, str(exc))) from exc
+                    raise ValueError(rename_videos(str(exc), press)) from exc
                 n_fallback += int(np.sum(~np.asarray(selector.selection_.contact_found)))
                 bar.update(len(idx))
     if n_fallback:

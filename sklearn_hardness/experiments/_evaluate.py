@@ -29,6 +29,7 @@ from .._experiment_names import DEFAULT_PIPELINES, PIPELINE_NAMES
 from .. import models
 from ..datasets import load_press_videos, make_presses
 from ..datasets._lazy import raise_unreadable
+from ..datasets._manifest import manifest_file
 from ..datasets._sim_presets import PRESETS
 from ..features import LoadingCompliance, OpticalFlowFeatures
 from ..features._loading_compliance import ConventionWarning
@@ -88,9 +89,7 @@ def _load_dataset(dataset, random_state):
 
     if isinstance(dataset, str) and dataset in PRESETS:
         return make_presses(dataset, random_state=random_state)
-    path = Path(dataset)
-    if path.is_dir():
-        path = path / "manifest.csv"
+    path = manifest_file(dataset)
     if not path.exists():
         raise FileNotFoundError(
             f"dataset {str(dataset)!r} is neither a simulator preset ({sorted(PRESETS)}) nor an "

@@ -15,7 +15,6 @@ without a net.
 
 from __future__ import annotations
 
-import re
 import time
 import warnings
 
@@ -31,6 +30,7 @@ from ..features import ContactProfileFeatures, DINOv2Features, OpticalFlowFeatur
 from ..features._common import feature_columns
 from ..features._contact_profile import FEATURE_NAMES
 from ..preprocessing import ContactFrameSelector
+from ..utils._validation import names_a_video, rename_videos
 from ._peak_baseline import peak_contact_change
 
 __all__ = ["FailingPressesError", "all_columns", "describe", "prefix_key", "split_per_press",
@@ -165,9 +165,9 @@ def _fit_transform_chunk(prefix, X, rows):
                 _transform_chunk(prefix, X, [i])
             except Exception as exc:  # noqa: BLE001 - reported with the press it failed on
                 if k == 0 and type(exc) is type(chunk_exc) and str(exc) == str(chunk_exc) \
-                        and not re.search(r"\bX\[\d+\]", str(exc)):
+                        and not names_a_video(str(exc)):
                     raise chunk_exc from None
-                message = re.sub(r"\bX\[0\]", "the press", str(exc))
+                message = rename_videos(str(exc), lambda _: "the press")  # X[0]: it ran alone
                 failures.append((int(i), f"{type(exc).__name__}: {message}"))
         if not failures:
             raise

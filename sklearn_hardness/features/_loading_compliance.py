@@ -60,19 +60,19 @@ def _warn_on_conventions(presses, hertz):
     """
     half = len(presses) / 2
     negative = [i for i, p in enumerate(presses) if -p[:, 0].min() > 3 * max(p[:, 0].max(), 0.0)]
-    if negative and len(negative) > half:
+    if len(negative) > half:
         warnings.warn(
             f"{len(negative)} of {len(presses)} presses (X[{_listed(negative)}]) have their force mostly below "
             "zero: a compressive force must be positive (negate it).", ConventionWarning,
             stacklevel=external_stacklevel())
     falling = np.flatnonzero(hertz <= 0.0)
-    if len(falling) and len(falling) > half:
+    if len(falling) > half:
         warnings.warn(
             f"on {len(falling)} of {len(presses)} presses (X[{_listed(falling)}]) the position falls as the force "
             "rises: the position must grow as the sensor moves into the object (a gripper's closing, not its "
             "width; negate a position that falls).", ConventionWarning, stacklevel=external_stacklevel())
     tiny = np.flatnonzero((hertz > 0.0) & (hertz < 1e-3))
-    if len(tiny) and len(tiny) > half:
+    if len(tiny) > half:
         warnings.warn(
             f"{len(tiny)} of {len(presses)} presses (X[{_listed(tiny)}]) move under a micrometre per N^(2/3): "
             "is the position in metres? It must be in mm.", ConventionWarning, stacklevel=external_stacklevel())
@@ -218,9 +218,8 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
         _warn_on_conventions(presses, rows[:, 0])
         bad = np.flatnonzero(np.isnan(out).any(axis=1))
         if len(bad):
-            shown = ", ".join(map(str, bad[:10])) + (", ..." if len(bad) > 10 else "")
             warnings.warn(
-                f"{len(bad)} of {len(presses)} presses (X[{shown}]) have no positive force or fewer than "
+                f"{len(bad)} of {len(presses)} presses (X[{_listed(bad)}]) have no positive force or fewer than "
                 f"{self.min_loading_frames} frames from {self.onset:g} of their peak force to the peak; "
                 "their figures are NaN.", UserWarning, stacklevel=external_stacklevel())
         return out

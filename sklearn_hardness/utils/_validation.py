@@ -9,11 +9,30 @@ video (by index). Parameters are validated by scikit-learn's machinery
 from __future__ import annotations
 
 import numbers
+import re
 
 import numpy as np
 
 __all__ = ["check_video", "check_video_sequence", "check_frames_array", "check_roi", "roi_slices",
-           "check_force_position"]
+           "check_force_position", "names_a_video", "rename_videos"]
+
+#: How these helpers name a video in their messages: by its index in the sequence given, ``X[i]``.
+_VIDEO_NAME = re.compile(r"\bX\[(\d+)\]")
+
+
+def names_a_video(message):
+    """Whether ``message`` names a video the way these helpers do (``X[i]``)."""
+    return _VIDEO_NAME.search(message) is not None
+
+
+def rename_videos(message, name):
+    """``message`` with each ``X[i]`` replaced by ``name(i)``.
+
+    The helpers name a video by its index in the sequence they were given;
+    where that sequence was a chunk or one press of a dataset, ``name`` says
+    which press of the dataset it is (and its file).
+    """
+    return _VIDEO_NAME.sub(lambda m: name(int(m.group(1))), message)
 
 
 def check_video(video, *, name="video", min_frames=1, allow_float=True):
