@@ -23,7 +23,6 @@ which this sets).
 """
 
 import argparse
-import json
 import os
 import subprocess
 import sys
@@ -34,6 +33,7 @@ from collections import defaultdict
 from _output import report
 
 from sklearn_hardness.experiments import parse_provenance
+from sklearn_hardness.experiments._results import ResultsStore
 
 
 def run_with_kernels(coretype, reproduce_args, out):
@@ -69,15 +69,10 @@ def kernels_ran(out):
 
 
 def active_runs(out):
-    """The run records of ``results.jsonl`` by (strategy, test object, seed)."""
-    runs = {}
-    with open(os.path.join(out, "results.jsonl")) as f:
-        for line in f:
-            record = json.loads(line)
-            key = record.get("key", {})
-            if key.get("experiment") == "active_sampling":
-                runs[key["strategy"], key["test_object"], key["seed"]] = record
-    return runs
+    """The run records of ``results.jsonl`` (read as ``reproduce`` resumes it) by (strategy, test object, seed)."""
+    records = ResultsStore(os.path.join(out, "results.jsonl")).records
+    return {(r["key"]["strategy"], r["key"]["test_object"], r["key"]["seed"]): r for r in records
+            if r["key"].get("experiment") == "active_sampling"}
 
 
 def first_parting(a, b):
