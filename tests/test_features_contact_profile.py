@@ -12,7 +12,7 @@ from sklearn.utils._param_validation import InvalidParameterError
 from sklearn_hardness.experiments import evaluate_pipelines, peak_contact_change
 from sklearn_hardness.features import ContactProfileFeatures
 
-from ._synthetic import FRAMED_GEL, framed_press, growing_disc_press
+from ._synthetic import FRAMED_GEL, framed_press, growing_disc_press, synthetic_press
 
 
 def _press(rise, radius, rng):
@@ -226,3 +226,60 @@ def test_uint16_frames_give_the_features_of_the_same_frames_in_uint8():
     np.testing.assert_allclose(features.fit_transform([as16]), features.fit_transform([video]), rtol=1e-5,
                                atol=1e-6)
 
+
+
+def test_features_do_not_depend_on_how_long_the_press_is_held():
+    # Contact from frame 6 (before a quarter of the video): the pre-contact window ends before the rise,
+    # so a longer hold leaves the features of the same press as they are; it used to count the held
+    # frames as pre-contact (peak_over_precontact 3.68 -> 1.49, rise_frames 5 -> 1 from 40 to 160 frames).
+    # The two videos share their first 40 frames; what differs is the held frame the peak falls on (the
+    # plateau's argmax, a matter of pixel noise: about 1% in concentration and texture) and the window.
+    est = ContactProfileFeatures().fit([_press(3, 6, np.random.default_rng(0))])
+    names = est.get_feature_names_out().tolist()
+    short, long = est.transform([synthetic_press(n_frames=n, contact_start=6, peak=15) for n in (40, 160)])
+    same = [i for i, n in enumerate(names) if n not in ("rise_fraction", "hold_fraction")]  # shares of T
+    np.testing.assert_allclose(long[same], short[same], rtol=0.02)
+    assert long[names.index("rise_frames")] == short[names.index("rise_frames")] == 5
+
+
+# Features computed before the pre-contact window was ended at the rise: contact at or after the window
+# (frame 15 of 60 = a quarter; frame 30 of 126, after 25) leaves them as they were, bit for bit here
+# (rtol 1e-6 allows for float32 summation order elsewhere; a different window moves them by > 1e-3).
+_BEFORE = {
+    "disc_at_window_end": [2.1247923661976684, 12.43406043278304, 3.0, 0.05, 0.6833333333333333, 0.1923828125,
+                           5.158689975738525, 1.0003490040187413, 0.8907583355903625, 0.4520553648471832,
+                           1.1024581848531454, -3.4287624224884325],
+    "late_in_126": [1.3273420527888549, 3.7264018097009077, 5.0, 0.03968253968253968, 0.7063492063492064,
+                    0.12923177083333334, 11.060324668884277, 0.5609721661149957, 0.918026328086853,
+                    0.5215933322906494, 1.7020095150280492, -4.004241150089718],
+}
+
+
+def test_presses_with_contact_after_the_window_keep_their_features():
+    videos = {"disc_at_window_end": growing_disc_press(6, 8, np.random.default_rng(0)),
+              "late_in_126": synthetic_press(n_frames=126, contact_start=30, peak=40)}
+    F = ContactProfileFeatures().fit_transform(list(videos.values()))
+    for row, name in zip(F, videos):
+        np.testing.assert_allclose(row, _BEFORE[name], rtol=1e-6, atol=0, err_msg=name)
+
+
+def test_float_frames_are_read_by_dtype_and_checked_whole():
+    video = synthetic_press(n_frames=20, contact_start=8, peak=14, size=(40, 200))  # strided by 2
+    as_float = video / 255.0
+    est = ContactProfileFeatures().fit([video])
+    np.testing.assert_allclose(est.transform([as_float]), est.transform([video]), rtol=1e-5, atol=1e-6)
+    over = as_float.copy()
+    over[0, 0, 0, 0] = 1.02  # e.g. a resize's overshoot: no longer read as 0..255 levels, silently
+    with pytest.raises(ValueError, match=r"video 1 has float frames with values in \[0\.\d+, 1\.02\]"):
+        est.transform([as_float, over])
+    hidden = as_float.copy()
+    hidden[3, 1, 1, 0] = 7.0  # a pixel the stride does not read
+    with pytest.raises(ValueError, match=r"video 0 has float frames .* scaled to \[0, 1\]"):
+        est.transform([hidden])
+
+
+def test_constant_short_videos_give_the_row_of_longer_ones():
+    est = ContactProfileFeatures().fit([np.zeros((3, 8, 8), np.uint8)])
+    rows = est.transform([np.full((n, 5, 5), 7, np.uint8) for n in (1, 2, 3, 20)])
+    np.testing.assert_allclose(rows, np.repeat(rows[-1:], 4, axis=0), rtol=1e-6)  # log(0.1 + 0) in float32
+    assert np.all(rows[:, [1, 6, 8, 9]] == 0.0)

@@ -442,3 +442,47 @@ def test_crop_contact_without_change_keeps_the_centre_and_bad_values_raise():
     for bad in (0, 1, 1.5, "contact"):
         with pytest.raises(InvalidParameterError, match="crop_contact"):
             ContactFrameSelector(crop_contact=bad).fit([video])
+
+
+@pytest.mark.parametrize("n_frames", [60, 100, 160])
+def test_a_long_hold_does_not_hide_the_contact(n_frames):
+    # 7 quiet frames after the first, loading over frames 8-14, then held: over 80% of the frames after
+    # the first are held, which put the whole video's 20th percentile (the quiet level) on the plateau
+    video = synthetic_press(n_frames=n_frames, contact_start=8, peak=14)
+    s = ContactFrameSelector().select([video])
+    assert s.status[0] == "contact"
+    assert 8 <= s.contact_start[0] <= 11 and 13 <= s.contact_peak[0] <= 16
+
+
+def test_weak_contact_quiet_level_comes_from_before_a_long_hold():
+    from sklearn_hardness.preprocessing._contact_curve import _locate_weak
+
+    local = np.r_[0.0, np.full(7, 1.0), 1.5, 2.0, 2.5, np.full(89, 3.0)]  # held over 89 of 99 frames
+    start, peak, found = _locate_weak(local, 0.3)
+    assert found and 8 <= start <= peak <= 11
+
+
+@pytest.mark.parametrize("n_frames", [4, 5, 6, 7, 8, 9])
+def test_numeric_threshold_applies_to_short_videos(n_frames):
+    # the curve passes the threshold: contact, where the noise-based peak tolerance used to put the
+    # peak at frame 0 or 1, under the threshold, and report no contact
+    video = synthetic_press(n_frames=n_frames, contact_start=1, peak=n_frames - 1)
+    curve = contact_curve(video)
+    assert curve.max() > 3.0
+    s = ContactFrameSelector(threshold=3.0).select([video])
+    start, peak = s.contact_start[0], s.contact_peak[0]
+    assert s.status[0] == "contact" and s.threshold[0] == 3.0
+    assert 1 <= start <= peak and curve[peak] > 3.0 and curve[start] > 3.0 >= curve[start - 1]
+    assert (curve[start : peak + 1] > 3.0).all()
+
+
+def test_float_range_is_checked_on_the_whole_video():
+    # frames of 200 x 240 are strided by 3 for the curve; frame 3 is not selected
+    video = synthetic_press(n_frames=30, contact_start=10, peak=20, size=(200, 240)) / 255.0
+    video[3, 1, 1, 0] = 7.0
+    with pytest.raises(ValueError, match=r"X\[0\] has float frames with values in \[0\.\d+, 7\]"):
+        ContactFrameSelector().fit([video])
+    with pytest.raises(ValueError, match=r"video has float frames .* scaled to \[0, 1\]"):
+        contact_curve(video)
+    with pytest.raises(ValueError, match=r"X\[0\] has float frames"):  # outside the region read, too
+        ContactFrameSelector(roi=(0.5, 1.0, 0.5, 1.0)).select([video])

@@ -11,6 +11,7 @@ from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
 from sklearn.utils._param_validation import Interval, StrOptions
 from sklearn.utils.validation import check_is_fitted
 
+from ..preprocessing._contact_curve import _as_float255, _check_float_range
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
 from ._common import check_feature_names, feature_columns
@@ -35,16 +36,19 @@ FEATURE_NAMES = (
 
 
 def _grey_small(video, max_side, roi=None, name="video"):
+    """Grey frames strided to about ``max_side`` pixels, in 0..255 intensity units.
+
+    Read as the contact curve reads them (by dtype: uint8 as is, uint16 / 257,
+    float in [0, 1] times 255); a float video with any value outside [0, 1]
+    raises an error naming it.
+    """
     video = check_video(video, min_frames=1, name=name)
+    _check_float_range(video, name)  # the whole video, not only the strided pixels
     rows, cols = roi_slices(video.shape[1:3], roi, name)  # the whole frame for roi=None
     video = video[:, rows, cols]
     h, w = video.shape[1:3]
     stride = max(1, max(h, w) // max_side)
-    small = video[:, ::stride, ::stride].astype(np.float32)
-    if video.dtype == np.uint16:  # 0..255 intensity units, as the contact curve reads them
-        small /= 257.0
-    elif small.max(initial=0) <= 1.0 and video.dtype.kind == "f":
-        small = small * 255.0
+    small = _as_float255(video[:, ::stride, ::stride], name)
     return small.mean(axis=-1) if small.ndim == 4 else small
 
 
@@ -81,18 +85,52 @@ def _spread(d_peak):
     return float(np.log(moment / (h * w) + 1e-4))
 
 
+def _run_start(above, level):
+    """First frame of the last run of ``above >= level`` that ends at the last frame (its length if none)."""
+    below = np.flatnonzero(above < level)
+    return int(below[-1]) + 1 if below.size else 0
+
+
+def _n_precontact(curve, i_peak):
+    """End (exclusive) of the pre-contact frames ``1 .. n - 1``, before the rise to the peak.
+
+    The window is a quarter of the video (at most 25 frames, at least 2),
+    unless the rise to the peak is under way inside it: where the last run
+    of frames, up to the peak, at least halfway from the window's median to
+    the peak starts inside the window, the window is cut at the start of the
+    last run at least 20% of the way, and the median is taken again, until
+    the halfway run starts at or after the window's end. Runs, not single
+    frames, and halfway, so a noise spike or a codec step before contact
+    does not cut it; where the rise begins after the first window, the
+    window is the first one.
+    """
+    n = max(2, min(len(curve) // 4, 25))
+    peak = float(curve[i_peak])
+    head = curve[: i_peak + 1]
+    while n > 2:
+        base = float(np.median(curve[1:n]))
+        span = peak - base
+        if span <= 0 or _run_start(head - base, 0.5 * span) >= n:
+            break
+        n = max(2, _run_start(head - base, 0.2 * span))
+    return n
+
+
 def _profile(video, max_side, noise_factor, roi=None, name="video"):
     g = _grey_small(video, max_side, roi, name)
     t = len(g)
     diff = np.abs(g - g[0])  # (T, h, w)
     curve = diff.reshape(t, -1).mean(axis=1)
     if t < 3:
-        return np.array([np.log(0.1 + curve.max()), 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0,
+        # no pre-contact frames; ratios default to 1, or to 0 (as for longer videos) where nothing changes
+        one = 1.0 if curve.max() > 0 else 0.0
+        return np.array([np.log(0.1 + curve.max()), one, 0.0, 0.0, 0.0, 0.0, one, 0.0, one, one,
                          np.log(0.1), np.log(1e-4)])
-    n_pre = max(2, min(t // 4, 25))
-    base = float(np.median(curve[1:n_pre])) if n_pre > 1 else 0.0
     i_peak = int(np.argmax(curve))
     peak = float(curve[i_peak])
+    # pre-contact frames: up to a quarter of the video (at most 25), ending before the rise
+    n_pre = _n_precontact(curve, i_peak)
+    base = float(np.median(curve[1:n_pre])) if n_pre > 1 else 0.0
     span = max(peak - base, 1e-6)
     above = curve - base
     # loading phase: from 20% to 90% of the rise above the pre-contact level
@@ -190,6 +228,22 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
     See Also
     --------
     sklearn_hardness.preprocessing.contact_curve : The mean change alone.
+
+    Notes
+    -----
+    The pre-contact frames (the level ``peak_over_precontact`` divides by
+    and each pixel's own noise) are frames 1 to a quarter of the video, at
+    most 25, ended before the rise where contact starts among them: where
+    the frames from the last run at least halfway from their median to the
+    peak reach into the window, it ends where that rise passes 20% of the
+    way (and its median is taken again). A press touched early and held
+    long so gives the features of the same press held briefly; with contact
+    after the window, the window is the quarter of the video as before.
+
+    Frames are read as :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`
+    reads them: ``uint8`` as is, ``uint16`` divided by 257, float in
+    [0, 1] times 255; float videos with any value outside [0, 1] raise an
+    error naming the video.
 
     Examples
     --------

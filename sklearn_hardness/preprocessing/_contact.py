@@ -58,7 +58,11 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         running median of 5 frames (codec key-frame dips and one-frame
         glitches go), and compared with its own 20th percentile ``q`` (the
         quiet part of the video, which the codec's slow rise over the first
-        frames does not bias as it does the first frames): contact is found
+        frames does not bias as it does the first frames; where it lies at
+        least halfway up to the maximum, as when the press is held for most
+        of the video, the 20th percentile of the frames before the maximum;
+        the same level of the mean curve bounds ``b`` from below): contact
+        is found
         when its peak ``m`` is at least ``1.4 q`` and ``m - q >=
         min_contrast``; it starts where the smoothed curve passes
         ``q + 0.25 (m - q)`` and peaks where it first comes within 20% of
@@ -149,14 +153,17 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
       pre-contact level): found by the second step of ``threshold="auto"``;
       its ``status`` is ``"weak contact"`` and its ``threshold`` NaN (the
       test ran on the localised curve, not on :func:`contact_curve`). The
-      quiet level is a percentile over the video, so at least a fifth of
-      the frames must be free of contact (before it, or after release).
+      quiet level is a percentile over the video, or over the frames before
+      the peak where a press held for most of the video would put it on the
+      plateau: a long hold does not hide a contact.
     - *Too short* (fewer than ``n_baseline + 3`` frames, e.g. truncated
       recordings of 3-7 frames) with ``threshold="auto"``: there is no
       baseline to measure noise against, so the status is ``"too short"``,
       the frames are spread over the whole video and the video counts like
       one that never reaches contact (warning or error, ``on_no_contact``).
-      A numeric ``threshold`` needs no baseline and still applies.
+      A numeric ``threshold`` needs no baseline and still applies: contact
+      is found when the curve passes it, and the peak is the first frame
+      within the noise tolerance of the maximum that is above it.
     - *Videos of different lengths* are fine; different frame sizes need
       ``frame_size``.
     - A single-frame video, NaN/inf frames, float frames outside [0, 1] and
@@ -353,6 +360,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
 
     def _extract(self, video, indices, name, frame_size):
         """The selected frames of one validated video, scaled, cropped, converted, resized."""
+        # a float video's range was checked whole by _select_one (_curves) before this
         rows, cols = roi_slices(video.shape[1:3], self.roi, name)
         if self.crop_contact is not None:
             rows, cols = _contact_window(video, indices, rows, cols, self.crop_contact, name)

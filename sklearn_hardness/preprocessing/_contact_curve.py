@@ -33,7 +33,8 @@ _STRONG_CONTRAST = 2.0
 # of the most-changed _LOCAL_TOP of a grid of _LOCAL_CELLS x _LOCAL_CELLS cells, so a small
 # sharp contact is not diluted by the pad, running-median smoothed over _SMOOTH frames
 # (codec key-frame dips and one-frame glitches go), against its own _BASE_QUANTILE level
-# (the quiet part of the video, robust to the codec's rise over the first frames).
+# (the quiet part of the video, robust to the codec's rise over the first frames; taken over
+# the frames before the maximum where a long hold would put it on the plateau: _quiet_level).
 _LOCAL_CELLS = 8
 _LOCAL_TOP = 0.1
 _SMOOTH = 5
@@ -51,18 +52,29 @@ _PEAK_TOLERANCE = 0.02
 _RIDGE = 4.0
 
 
-def _as_float255(video, name):
-    """Frames as float32 in 0..255 intensity units."""
-    if video.dtype == np.uint8:
-        return video.astype(np.float32)
-    if video.dtype == np.uint16:
-        return video.astype(np.float32) / 257.0
+def _check_float_range(video, name):
+    """Raise if a float video has values outside [0, 1]; integer videos are not looked at.
+
+    Called on the whole video before any striding or cropping, so a value
+    out of range anywhere is found, not only in the pixels that are read.
+    """
+    if video.dtype.kind != "f" or video.size == 0:
+        return
     vmin, vmax = float(video.min()), float(video.max())
     if vmin < 0.0 or vmax > 1.0:
         raise ValueError(
             f"{name} has float frames with values in [{vmin:g}, {vmax:g}]; float videos must be "
             "scaled to [0, 1] (or pass uint8 frames)."
         )
+
+
+def _as_float255(video, name):
+    """Frames as float32 in 0..255 intensity units (uint8 as is, uint16 / 257, float in [0, 1] * 255)."""
+    if video.dtype == np.uint8:
+        return video.astype(np.float32)
+    if video.dtype == np.uint16:
+        return video.astype(np.float32) / 257.0
+    _check_float_range(video, name)
     return video.astype(np.float32) * 255.0
 
 
@@ -162,8 +174,10 @@ def _curves(video, roi, name):
     """The contact curve and the localised curve of one validated video.
 
     The localised curve is, per frame, the mean residual of the most-changed
-    ``_LOCAL_TOP`` of a grid of cells over the (strided) frame.
+    ``_LOCAL_TOP`` of a grid of cells over the (strided) frame. A float
+    video is range-checked whole, before the crop and the stride.
     """
+    _check_float_range(video, name)
     rows, cols = roi_slices(video.shape[1:3], roi, name)
     video = video[:, rows, cols]
     h, w = video.shape[1:3]
@@ -194,15 +208,35 @@ def _smooth(curve):
     return out
 
 
+def _quiet_level(smooth, top):
+    """Quiet level of a smoothed curve whose maximum is at frame ``top``.
+
+    The ``_BASE_QUANTILE`` of all frames after the first, unless that lies
+    at least halfway from the same quantile of the frames before the
+    maximum (``smooth[1:top]``) to the maximum: a press held for most of the
+    video (about 80% of the frames after the first) puts the whole video's
+    quantile on its plateau, and the frames before the maximum give the
+    level instead. With fewer than two frames before the maximum, the whole
+    video's quantile. (The whole video's quantile is kept otherwise: in
+    compressed streams the frames before contact rise with the codec, and
+    the quantile before the maximum would fall on the first, lowest ones.)
+    """
+    whole = float(np.quantile(smooth[1:], _BASE_QUANTILE))
+    if top - 1 < 2:
+        return whole
+    before = float(np.quantile(smooth[1:top], _BASE_QUANTILE))
+    return whole if whole - before < 0.5 * (float(smooth[top]) - before) else before
+
+
 def _mean_curve_peak(curve, n_baseline):
     """Peak, baseline level, noise and contrast of the mean curve.
 
     The baseline is the ``n_baseline`` frames after the first, but no lower
-    than the quiet level of the whole video and with at least the video's
-    frame-to-frame noise: a compressed stream changes least in its first
-    frames (the codec copies the first frame) and fluctuates later. The peak
-    is the first frame within the tolerance of the maximum (on a plateau,
-    argmax would pick a noisy frame).
+    than the quiet level of the video (:func:`_quiet_level`) and with
+    at least the video's frame-to-frame noise: a compressed stream changes
+    least in its first frames (the codec copies the first frame) and
+    fluctuates later. The peak is the first frame within the tolerance of
+    the maximum (on a plateau, argmax would pick a noisy frame).
     """
     top = int(np.argmax(curve))
     n_base = min(n_baseline, top - 1)
@@ -214,7 +248,7 @@ def _mean_curve_peak(curve, n_baseline):
         level, noise = 0.0, 0.0
     if len(curve) > 2:
         smooth = _smooth(curve)
-        level = max(level, float(np.quantile(smooth[1:], _BASE_QUANTILE)))
+        level = max(level, _quiet_level(smooth, top))
         noise = max(noise, float(1.4826 * np.median(np.abs(curve[1:] - smooth[1:]))))
     contrast = float(curve[top]) - level
     tolerance = max(_PEAK_TOLERANCE * contrast, _NOISE_FACTOR * noise)
@@ -225,8 +259,8 @@ def _mean_curve_peak(curve, n_baseline):
 def _locate_weak(local, min_contrast):
     """Start, peak and found on the smoothed localised curve (weak contacts in compressed video)."""
     smooth = _smooth(local)
-    quiet = float(np.quantile(smooth[1:], _BASE_QUANTILE))
     top = int(np.argmax(smooth))
+    quiet = _quiet_level(smooth, top)
     rise = float(smooth[top]) - quiet
     found = top > 0 and rise >= min_contrast and smooth[top] >= _MIN_RATIO * quiet
     peak = int(np.flatnonzero(smooth[: top + 1] >= smooth[top] - _WEAK_PEAK_TOLERANCE * rise)[0])
@@ -248,8 +282,15 @@ def _locate_contact(curve, local, threshold, n_baseline, min_contrast):
         return 0, len(curve) - 1, np.nan, "too short"
     peak, level, noise, contrast = _mean_curve_peak(curve, n_baseline)
     if threshold != "auto":
+        # a numeric threshold needs no baseline: contact iff the curve passes it; the peak is the
+        # first frame after the reference that is within the tolerance of the maximum and above
+        # the threshold (so a short video's noise estimate cannot move the peak below it)
         tau = float(threshold)
-        if peak > 0 and curve[peak] > tau:
+        top = int(np.argmax(curve))
+        if curve[top] > tau:
+            tolerance = max(_PEAK_TOLERANCE * contrast, _NOISE_FACTOR * noise)
+            near = curve[1 : top + 1]
+            peak = 1 + int(np.flatnonzero((near >= curve[top] - tolerance) & (near > tau))[0])
             return _last_run_start(curve, peak, tau), peak, tau, "contact"
         return 0, peak, tau, "no contact"
     # strong contacts (uncompressed sensors, markers): the mean curve against its first frames
