@@ -283,3 +283,34 @@ def test_magnitude_quantiles_of_flat_frames_and_bad_options():
             OpticalFlowFeatures(output="magnitude_quantiles", **bad).fit(X)
     with pytest.raises(InvalidParameterError, match="output"):
         OpticalFlowFeatures(output="histogram").fit(X)
+
+
+def test_previous_reference_gives_zero_increments_from_the_loss_on():
+    # reference="previous": a lost track's increments are zero from the frame where
+    # it is lost on, for both fill rules (no backward jump of its whole travel).
+    rng = np.random.default_rng(4)
+    H, W = 24, 40
+    strip = texture((H, 10), rng)
+    frames = np.zeros((4, H, W), np.float32)
+    for t, x0 in enumerate([20, 22, 24, W + 5]):  # last frame: strip outside the image
+        lo, hi = x0, min(x0 + 10, W)
+        if lo < W:
+            frames[t, :, lo:hi] = strip[:, : hi - lo]
+    X = frames[np.newaxis, ..., np.newaxis]
+    of = OpticalFlowFeatures(n_features=10, min_distance=2, win_size=(9, 9), max_level=1,
+                             reference="previous", include_valid=True).fit(X)
+    tr = of.track(X)
+    valid = tr.valid[0, :, 1:]
+    lost = tr.valid[0, :, 0] & ~tr.valid[0, :, -1] & tr.valid[0, :, 1]
+    assert lost.any()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        zero = of.transform(X).reshape(10, 3, 3)
+        last = of.set_params(fill_lost="last").transform(X).reshape(10, 3, 3)
+        first = of.set_params(reference="first", fill_lost="zero").transform(X).reshape(10, 3, 3)
+    np.testing.assert_array_equal(zero, last)
+    assert np.all(zero[..., :2][~valid] == 0)
+    # where tracked, the increments are the differences of the cumulative ones
+    inc = np.diff(first[..., :2], axis=1, prepend=0)
+    np.testing.assert_allclose(zero[..., :2][valid], inc[valid], atol=1e-5)
+    np.testing.assert_allclose(zero[lost, 0, 0], 2.0, atol=0.5)

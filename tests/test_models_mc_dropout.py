@@ -319,3 +319,70 @@ def test_predict_proba_samples_parameters_are_validated(case):
         net.predict_proba_samples(X, n_samples=0)
     with pytest.raises(InvalidParameterError, match="batch_size"):
         net.predict_proba_samples(X, n_samples=2, batch_size=0.5)
+
+
+def test_train_split_fits_and_scores_the_validation_fold(case):
+    # skorch's valid_acc callback predicts on a skorch Subset of the encoded labels
+    from sklearn.model_selection import KFold
+    from skorch.dataset import ValidSplit
+
+    cls, kind, kw, X, y, _ = case
+    names = np.array(["soft", "medium", "hard"])[y]
+    net = cls(random_state=0, **dict(kw, max_epochs=2, train_split=ValidSplit(5))).fit(X, names)
+    assert len(net.history_) == 2
+    assert {"valid_loss", "valid_acc"} <= set(net.history_[-1])
+    _, valid = next(KFold(5).split(X))  # ValidSplit(5)'s validation fold
+    acc = np.mean(net.predict(X[valid]) == names[valid])
+    assert net.history_[-1, "valid_acc"] == pytest.approx(acc)
+    assert set(net.predict(X)) <= {"soft", "medium", "hard"}
+
+
+def test_unsorted_classes_give_sorted_classes_and_the_same_model(case):
+    cls, kind, kw, X, y, _ = case
+    names = np.array(["soft", "medium", "hard"])[y]
+    weights = {"soft": 3.0, "medium": 0.5}
+    fitted = [cls(classes=c, class_weight=weights, random_state=0, **kw).fit(X, names)
+              for c in (["soft", "medium", "hard"], ["hard", "medium", "soft"])]
+    first = [cls(class_weight=weights, random_state=0, **kw).partial_fit(X[y < 2], names[y < 2], classes=c,
+                                                                        epochs=1)
+             for c in (["soft", "medium", "hard"], ["hard", "medium", "soft"])]
+    for a, b in (fitted, first):
+        np.testing.assert_array_equal(a.classes_, ["hard", "medium", "soft"])
+        np.testing.assert_array_equal(a.class_weight_, [1.0, 0.5, 3.0])
+        np.testing.assert_array_equal(a.class_weight_, b.class_weight_)
+        np.testing.assert_array_equal(a.predict_proba(X), b.predict_proba(X))
+        np.testing.assert_array_equal(a.predict(X), b.predict(X))
+    assert fitted[0].classes == ["soft", "medium", "hard"]  # the parameter is kept as given
+
+
+def test_unsorted_classes_are_accepted_by_active_learner():
+    from sklearn_hardness.active import ActiveLearner
+
+    X, y = _data("features", n=30)
+    names = np.array(["soft", "medium", "hard"])[y]
+    net = OFNNClassifier(max_epochs=1, classes=["soft", "medium", "hard"], random_state=0)
+    learner = ActiveLearner(net, initial_epochs=1).fit(X, names)
+    np.testing.assert_array_equal(learner.classes_, ["hard", "medium", "soft"])
+
+
+def test_balanced_class_weight_with_declared_classes_absent_from_y():
+    from sklearn.utils.class_weight import compute_class_weight
+
+    X, y = _data("features", n=20)  # labels 0, 1, 2 (7, 7, 6 of them)
+    # every class present: scikit-learn's weights, exactly
+    full = OFNNClassifier(max_epochs=1, class_weight="balanced", random_state=0).fit(X, y)
+    np.testing.assert_array_equal(
+        full.class_weight_, compute_class_weight("balanced", classes=np.unique(y), y=y).astype(np.float32)
+    )
+    declared = OFNNClassifier(max_epochs=1, class_weight="balanced", classes=[0, 1, 2], random_state=0)
+    np.testing.assert_array_equal(declared.fit(X, y).class_weight_, full.class_weight_)
+    # a declared class missing from y gets weight 1; the others are balanced over the present ones
+    keep = y != 1
+    n0, n2 = np.sum(y[keep] == 0), np.sum(y[keep] == 2)
+    expected = np.array([keep.sum() / (2 * n0), 1.0, keep.sum() / (2 * n2)], dtype=np.float32)
+    net = OFNNClassifier(max_epochs=1, class_weight="balanced", classes=[0, 1, 2, 3], random_state=0)
+    np.testing.assert_array_equal(net.fit(X[keep], y[keep]).class_weight_, np.r_[expected, 1.0].astype(np.float32))
+    pf = OFNNClassifier(max_epochs=1, class_weight="balanced", random_state=0)
+    pf.partial_fit(X[keep], y[keep], classes=[0, 1, 2], epochs=1)
+    np.testing.assert_array_equal(pf.class_weight_, expected)
+    assert pf.predict_proba(X).shape == (len(X), 3)

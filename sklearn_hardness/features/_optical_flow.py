@@ -79,8 +79,8 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
         What a track that is lost (Lucas-Kanade status 0, or the point left the
         image) gives in that and all later frames: ``"zero"`` displacement, or
         the ``"last"`` displacement measured before it was lost (with
-        ``reference="previous"``, increments after the loss are zero either
-        way).
+        ``reference="previous"``, the increments are zero either way from the
+        frame where the track is lost on).
     output : {"tracks", "magnitude_quantiles"}, default="tracks"
         ``"tracks"``: every corner's displacements, flattened in corner order
         (the paper's OFNN input; layout in the Notes). ``"magnitude_quantiles"``:
@@ -336,6 +336,11 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
             disp = _hold_last(disp, valid)
         if self.reference == "previous":
             disp = np.diff(disp, axis=2, prepend=disp[:, :, :1])
+            # Zero the increments after differencing: with fill_lost="zero" the cumulative
+            # displacement drops to 0 where a track is lost, and its difference would be a
+            # fake jump back by the whole travel. Where valid, nothing changes (a track is
+            # valid in every frame before one where it is valid).
+            disp = np.where(valid[..., None], disp, np.float32(0.0))
         if self.output == "magnitude_quantiles":
             out = _magnitude_quantiles(disp[:, :, 1:], valid[:, :, 0])
             self._warn_tracks(tr)

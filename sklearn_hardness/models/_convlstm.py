@@ -229,7 +229,9 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
     class_weight : dict, "balanced" or None, default=None
         Weights of the classes in the loss, as in scikit-learn
         (:func:`sklearn.utils.class_weight.compute_class_weight` on the
-        cold-start training labels); a dict maps labels to weights.
+        cold-start training labels; with ``classes``, ``"balanced"``
+        weighs the classes present and gives 1.0 to absent ones); a dict
+        maps labels to weights.
     random_state : int, RandomState instance or None, default=None
         Seeds the initial weights, the shuffling, the training dropout
         masks and the augmentations (without touching torch's global
@@ -247,7 +249,8 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
     train_split : callable or None, default=None
         None trains on all of ``X`` (as the paper does).
     classes : array-like or None, default=None
-        All labels, if ``y`` may not contain every class.
+        All labels, if ``y`` may not contain every class, in any order
+        (``classes_`` is them sorted).
     verbose : int, default=0
     device : {"cpu", "cuda", "auto"} or str, default="cpu"
     **kwargs

@@ -10,7 +10,10 @@ customised only through skorch's hooks and callbacks (``fit`` is skorch's):
   rebuilds module, criterion and optimizer for it, as skorch's
   ``InputShapeSetter`` does;
 * ``get_dataset`` validates ``X`` and encodes labels of any sortable type to
-  ``0..n_classes-1``; ``predict`` maps them back;
+  ``0..n_classes-1`` (their positions in the sorted ``classes_``); ``predict``
+  maps them back (a :class:`torch.utils.data.Dataset`, such as skorch's
+  validation ``Subset``, goes through skorch's own prediction path and gets
+  the encoded labels its targets hold);
 * ``initialize`` validates the parameters (``_parameter_constraints``) and
   seeds the initial weights, the shuffling and the dropout masks from
   ``random_state``; ``get_iterator`` and ``train_step`` use those generators;
@@ -69,6 +72,18 @@ class MCDropoutClassifierBase(NetPersistenceMixin, NeuralNetClassifier):
     ``_meta_from_state_dict(state_dict)`` (restore the input metadata from
     saved parameters) and ``_mc_bytes_per_row(X)`` (activation memory of one
     forward row, for chunking).
+
+    Labels and class weights, for every subclass:
+
+    * ``classes_`` is sorted, as scikit-learn's (:func:`numpy.unique`),
+      whatever the order of the ``classes`` parameter or of the ``classes``
+      argument of :meth:`partial_fit`; an unsorted list gives the same fitted
+      model as the sorted one (the parameter itself is kept as given).
+    * ``class_weight="balanced"`` weights each class present in the
+      cold-start training labels by ``n_samples / (n_present_classes *
+      count)`` (scikit-learn's formula over the classes present, exactly its
+      weights when every class is present); a class declared by ``classes``
+      but absent from ``y`` gets weight 1.0.
     """
 
     _parameter_constraints = {
@@ -159,6 +174,17 @@ class MCDropoutClassifierBase(NetPersistenceMixin, NeuralNetClassifier):
                 if isinstance(m, MCDropout):
                     m.p = float(kwargs["dropout"])
         return self
+
+    @property
+    def classes_(self):
+        """Class labels, sorted (:func:`numpy.unique`).
+
+        The ``classes`` parameter when set (sorted; the parameter keeps the
+        order given), else the classes of the first training call.
+        """
+        if self.classes is not None and len(self.classes):
+            return np.unique(np.asarray(self.classes))
+        return super().classes_
 
     def _check_dropout(self):
         validate_parameter_constraints(
@@ -266,15 +292,26 @@ class MCDropoutClassifierBase(NetPersistenceMixin, NeuralNetClassifier):
                 f"{type(self).__name__} needs at least 2 classes, got {len(cls)} class "
                 f"({cls.tolist()}); pass classes=[...] to declare all labels."
             )
+        cls = np.unique(cls)  # sorted, as scikit-learn's classes_ (and the classes_ property)
         self.classes_inferred_ = cls
         self._encode(y)
-        self.class_weight_ = (
-            None
-            if self.class_weight is None
-            else compute_class_weight(self.class_weight, classes=cls, y=y).astype(np.float32)
-        )
+        self.class_weight_ = None if self.class_weight is None else self._class_weights(cls, y)
         self._fit_input_stats(X)
         self._rebuild()
+
+    def _class_weights(self, cls, y):
+        """``class_weight`` as an array over the sorted classes ``cls``.
+
+        ``"balanced"`` is scikit-learn's over the classes present in ``y``;
+        declared classes absent from ``y`` get 1.0.
+        """
+        if isinstance(self.class_weight, str) and self.class_weight == "balanced":
+            present = np.isin(cls, y)
+            weight = np.ones(len(cls), dtype=np.float64)
+            weight[present] = compute_class_weight("balanced", classes=cls[present], y=y)
+        else:
+            weight = compute_class_weight(self.class_weight, classes=cls, y=y)
+        return weight.astype(np.float32)
 
     def _fit_input_stats(self, X):
         """Statistics of the cold-start training input the module keeps (none here)."""
@@ -386,7 +423,8 @@ class MCDropoutClassifierBase(NetPersistenceMixin, NeuralNetClassifier):
         classes : array-like or None, default=None
             All labels, needed on the first call when ``y`` does not contain
             every class and the ``classes`` parameter is not set (as in
-            scikit-learn's ``partial_fit``).
+            scikit-learn's ``partial_fit``). In any order: ``classes_`` is
+            the sorted labels.
         **fit_params : dict
             ``epochs=e`` trains for ``e`` epochs (default ``max_epochs``).
 
@@ -440,15 +478,22 @@ class MCDropoutClassifierBase(NetPersistenceMixin, NeuralNetClassifier):
 
         Parameters
         ----------
-        X : array-like
-            Input of the shape seen during fit.
+        X : array-like or torch.utils.data.Dataset
+            Input of the shape seen during fit, or a dataset of it such as
+            :meth:`get_dataset` builds (skorch's validation ``Subset`` of it
+            included), passed to skorch as is.
 
         Returns
         -------
         proba : ndarray of shape (n_samples, n_classes), float32
             Softmax of the logits; columns follow ``classes_``.
         """
-        X = self._check_predict_X(X)
+        if isinstance(X, torch.utils.data.Dataset):
+            # skorch's scoring callbacks (valid_acc) predict on its validation Subset;
+            # get_dataset takes datasets as they are, so does prediction.
+            self.check_is_fitted()
+        else:
+            X = self._check_predict_X(X)
         return np.asarray(super().predict_proba(X), dtype=np.float32)
 
     def predict(self, X):
@@ -456,15 +501,20 @@ class MCDropoutClassifierBase(NetPersistenceMixin, NeuralNetClassifier):
 
         Parameters
         ----------
-        X : array-like
-            Input of the shape seen during fit.
+        X : array-like or torch.utils.data.Dataset
+            Input of the shape seen during fit, or a dataset of it.
 
         Returns
         -------
         y_pred : ndarray of shape (n_samples,)
-            Labels from ``classes_``.
+            Labels from ``classes_``. For a dataset, skorch's prediction:
+            the encoded labels ``0..n_classes-1`` (positions in ``classes_``)
+            that the targets of :meth:`get_dataset`'s datasets hold, so that
+            skorch's ``valid_acc`` compares like with like.
         """
         proba = self.predict_proba(X)  # first: it raises NotFittedError before classes_ is read
+        if isinstance(X, torch.utils.data.Dataset):
+            return proba.argmax(axis=1)
         return np.asarray(self.classes_)[proba.argmax(axis=1)]
 
     def predict_proba_samples(self, X, n_samples=50, random_state=None, batch_size=None):

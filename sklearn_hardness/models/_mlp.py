@@ -162,7 +162,9 @@ class OFNNClassifier(_MLPClassifier):
     class_weight : dict, "balanced" or None, default=None
         Weights of the classes in the loss, as in scikit-learn
         (:func:`sklearn.utils.class_weight.compute_class_weight` on the
-        cold-start training labels); a dict maps labels to weights.
+        cold-start training labels; with ``classes``, ``"balanced"``
+        weighs the classes present and gives 1.0 to absent ones); a dict
+        maps labels to weights.
     random_state : int, RandomState instance or None, default=None
         Seeds the initial weights, the shuffling and the training dropout
         masks (without touching torch's global generator). ``None`` uses
@@ -179,7 +181,8 @@ class OFNNClassifier(_MLPClassifier):
     train_split : callable or None, default=None
         None trains on all of ``X`` (as the paper does); see skorch.
     classes : array-like or None, default=None
-        All labels, if ``y`` may not contain every class.
+        All labels, if ``y`` may not contain every class, in any order
+        (``classes_`` is them sorted).
     verbose : int, default=0
     device : {"cpu", "cuda", "auto"} or str, default="cpu"
         ``"auto"`` picks CUDA when available.
@@ -241,7 +244,9 @@ class DINOv2NNClassifier(_MLPClassifier):
     class_weight : dict, "balanced" or None, default=None
         Weights of the classes in the loss, as in scikit-learn
         (:func:`sklearn.utils.class_weight.compute_class_weight` on the
-        cold-start training labels); a dict maps labels to weights.
+        cold-start training labels; with ``classes``, ``"balanced"``
+        weighs the classes present and gives 1.0 to absent ones); a dict
+        maps labels to weights.
     random_state : int, RandomState instance or None, default=None
         Seeds the initial weights, the shuffling and the training dropout
         masks (without touching torch's global generator). ``None`` uses
@@ -258,7 +263,8 @@ class DINOv2NNClassifier(_MLPClassifier):
     train_split : callable or None, default=None
         None trains on all of ``X`` (as the paper does); see skorch.
     classes : array-like or None, default=None
-        All labels, if ``y`` may not contain every class.
+        All labels, if ``y`` may not contain every class, in any order
+        (``classes_`` is them sorted).
     verbose : int, default=0
     device : {"cpu", "cuda", "auto"} or str, default="cpu"
         ``"auto"`` picks CUDA when available.
@@ -336,7 +342,8 @@ class ContactProfileNNClassifier(_MLPClassifier):
     train_split : callable or None, default=None
         None trains on all of ``X``; see skorch.
     classes : array-like or None, default=None
-        All labels, if ``y`` may not contain every class.
+        All labels, if ``y`` may not contain every class, in any order
+        (``classes_`` is them sorted).
     verbose : int, default=0
     device : {"cpu", "cuda", "auto"} or str, default="cpu"
     **kwargs
