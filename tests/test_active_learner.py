@@ -573,3 +573,107 @@ def test_history_epochs_are_the_epochs_run_also_in_the_initial_training():
     assert first == len(learner._final().history) < 300  # stopped early, and said so
     learner.teach(X[:3], y[:3])
     assert learner.history_[-1]["epochs"] == len(learner._final().history) - first < 300
+
+
+# --- the capped training subset keeps every class of the reservoir ----------------------
+
+
+def _old_training_subset_indices(size, max_size, seed):
+    """The draw before the class repair: max_size rows uniformly without replacement."""
+    rng = np.random.RandomState(seed)
+    return rng.choice(size, max_size, replace=False), rng
+
+
+def test_training_subset_unchanged_when_the_draw_covers_every_class():
+    from sklearn_hardness.active._rows import training_subset
+
+    y = np.repeat(np.arange(4), [3, 5, 7, 25])
+    X = np.arange(y.shape[0])[:, None]  # row i holds i: recovers the indices
+    n_same = 0
+    for seed in range(200):
+        old, old_rng = _old_training_subset_indices(y.shape[0], 12, seed)
+        if np.unique(y[old]).shape[0] < 4:
+            continue
+        rng = np.random.RandomState(seed)
+        X_t, y_t = training_subset(X, y, 12, rng)
+        np.testing.assert_array_equal(X_t[:, 0], old)
+        np.testing.assert_array_equal(y_t, y[old])
+        # ... and the RandomState consumed the same random numbers
+        assert rng.randint(2**31) == old_rng.randint(2**31)
+        n_same += 1
+    assert n_same > 50
+    # no cap, or a reservoir within it: returned as it is, nothing drawn
+    rng = np.random.RandomState(0)
+    assert training_subset(X, y, None, rng)[1] is y
+    assert training_subset(X, y, 40, rng)[1] is y
+    assert rng.randint(2**31) == np.random.RandomState(0).randint(2**31)
+
+
+def test_training_subset_repairs_a_draw_that_lost_a_class():
+    from sklearn_hardness.active._rows import training_subset
+
+    y = np.array(["a"] * 2 + ["b"] * 2 + ["c"] * 30)  # any labels, not only 0..k-1
+    X = np.arange(y.shape[0])[:, None]
+    n_repaired = 0
+    for seed in range(100):
+        old, _ = _old_training_subset_indices(y.shape[0], 6, seed)
+        X_t, y_t = training_subset(X, y, 6, np.random.RandomState(seed))
+        idx = X_t[:, 0]
+        assert idx.shape == (6,) and np.unique(idx).shape[0] == 6  # no row twice
+        np.testing.assert_array_equal(y_t, y[idx])
+        assert set(y_t) == {"a", "b", "c"}
+        if set(y[old]) != {"a", "b", "c"}:
+            n_repaired += 1
+            # only rows of the most represented class were replaced, in place
+            changed = idx != old
+            assert np.all(y[old][changed] == "c")
+            np.testing.assert_array_equal(idx[~changed], old[~changed])
+        else:
+            np.testing.assert_array_equal(idx, old)
+    assert n_repaired > 50
+    # reproducible for a fixed seed
+    a = training_subset(X, y, 6, np.random.RandomState(3))[0]
+    np.testing.assert_array_equal(a, training_subset(X, y, 6, np.random.RandomState(3))[0])
+    # a cap below the number of classes cannot cover them all: no class is displaced
+    # below one row, and the subset keeps its size
+    y3 = np.repeat([0, 1, 2], [1, 1, 10])
+    for seed in range(20):
+        X_t, y_t = training_subset(np.arange(12)[:, None], y3, 2, np.random.RandomState(seed))
+        assert y_t.shape == (2,) and np.unique(X_t[:, 0]).shape[0] == 2
+        assert np.unique(y_t).shape[0] == 2
+
+
+def test_refit_estimator_keeps_every_class_under_a_small_cap():
+    """A refit-from-scratch estimator (plain fit(X, y)) trained on a capped subset kept
+    every class: a subset that lost one made the next query crash."""
+    import warnings
+
+    from sklearn_hardness.models import LaplaceLogisticRegression
+
+    rng = np.random.default_rng(0)
+    y0 = np.repeat(np.arange(5), 5)
+    X0 = rng.normal(size=(25, 2)) + y0[:, None]
+    lost = 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for seed in range(30):  # 3 of these 30 runs lost a class before the repair
+            learner = ActiveLearner(LaplaceLogisticRegression(), "variance", max_reservoir=40,
+                                    random_state=seed).fit(X0, y0)
+            for _ in range(9):  # 5 presses of class 0 each time: reservoir 30 .. 70
+                learner.teach(rng.normal(size=(5, 2)), [0] * 5)
+                if len(learner._final().classes_) < 5:
+                    lost += 1
+                    break
+        assert lost == 0
+        # a cap as small as the number of classes: the query no longer crashes
+        rng = np.random.default_rng(0)
+        y0 = np.repeat([0, 1, 2, 3], 2)
+        X0 = rng.normal(size=(8, 2)) + np.eye(4)[y0][:, :2] * 3
+        X_test = rng.normal(size=(3, 2))
+        for seed in range(6):
+            learner = ActiveLearner(LaplaceLogisticRegression(), "variance", max_reservoir=4,
+                                    n_mc_samples=5, random_state=seed).fit(X0, y0)
+            learner.teach(rng.normal(size=(2, 2)), [1, 1])
+            idx, scores = learner.query(X_test)
+            np.testing.assert_array_equal(learner._final().classes_, [0, 1, 2, 3])
+            assert scores.shape == (4,)

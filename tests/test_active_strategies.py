@@ -248,3 +248,109 @@ def test_thompson_presses_the_believed_class_and_spreads_with_doubt():
     assert first(sure)[1] > 400
     c = first(unsure)
     assert c[0] > 180 and c[2] > 180 and c[1] < 90
+
+
+# --- margin: the decision class comes last, also when the model is saturated ------------
+
+
+def _old_margin(p, n_instances, seed):
+    """margin_sampling as it ranked before: the decision scored -1 in the ranking too."""
+    from sklearn.utils import check_random_state
+
+    from sklearn_hardness.active._strategies import _top_classes
+
+    mu = np.asarray(p, dtype=np.float64).mean(axis=(0, 1))
+    rng = check_random_state(seed)
+    top = _top_classes(mu, 1, rng)[0]
+    scores = mu - mu[top]
+    scores[top] = -1.0
+    return _top_classes(scores, n_instances, rng), scores, rng
+
+
+def test_margin_saturated_model_puts_the_decision_class_last():
+    p = np.zeros((10, 4, 3))
+    p[..., 0] = 1.0  # saturated softmax: decision class 0 with mu = 1, the others 0
+    for s in range(50):
+        idx, scores = margin_sampling(p, n_instances=3, random_state=s)
+        assert idx[-1] == 0 and sorted(idx[:2].tolist()) == [1, 2]
+        np.testing.assert_array_equal(scores, [-1.0, -1.0, -1.0])  # returned scores as before
+        assert margin_sampling(p, random_state=s)[0][0] != 0
+    # both other classes are still drawn first, by the random tie-break
+    firsts = {margin_sampling(p, random_state=s)[0][0] for s in range(50)}
+    assert firsts == {1, 2}
+
+
+def test_margin_unchanged_when_the_decision_is_not_tied_at_minus_one():
+    rng = np.random.default_rng(0)
+    for trial in range(60):
+        p = rng.dirichlet(np.full(4, 0.4), size=(5, 3))
+        if trial % 3 == 0:
+            p = np.round(p, 1)  # exact ties of the decision and of the others
+            p /= p.sum(axis=-1, keepdims=True)
+        for n in (1, 4):
+            seed = np.random.RandomState(trial)
+            idx, scores = margin_sampling(p, n_instances=n, random_state=seed)
+            old_idx, old_scores, old_rng = _old_margin(p, n, trial)
+            np.testing.assert_array_equal(idx, old_idx)
+            np.testing.assert_array_equal(scores, old_scores)
+            assert seed.randint(2**31) == old_rng.randint(2**31)  # same draws consumed
+
+
+# --- thompson: later draws stay weighted when the priorities underflow ------------------
+
+
+def _mu(p):
+    mu = np.asarray(p, dtype=np.float64).mean(axis=(0, 1))
+    return mu / mu.sum()
+
+
+def _old_thompson(p, n_instances, seed):
+    """thompson_sampling as it ranked before: on exp(log(u) / mu) alone."""
+    from sklearn.utils import check_random_state
+
+    from sklearn_hardness.active._strategies import _top_classes
+
+    mu = _mu(p)
+    rng = check_random_state(seed)
+    u = rng.random_sample(mu.shape[0])
+    with np.errstate(divide="ignore", under="ignore"):
+        scores = np.where(mu > 0, np.exp(np.log(u) / np.where(mu > 0, mu, 1.0)), 0.0)
+    return _top_classes(scores, n_instances, rng), scores, rng
+
+
+def test_thompson_rare_classes_are_drawn_in_the_order_of_their_log_keys():
+    """Efraimidis-Spirakis in log space: the order is that of log(u_i) / mu_i, exactly
+    (here exp underflows to 0 for both rare classes, so the old ranking fell to the
+    uniform tie-break for the second and third draws)."""
+    p = np.tile([0.998, 0.0013, 0.0007], (2, 1, 1))
+    mu = _mu(p)
+    seconds = []
+    n_differs = 0
+    for s in range(400):
+        idx, scores = thompson_sampling(p, n_instances=3, random_state=s)
+        u = np.random.RandomState(s).random_sample(3)
+        keys = np.log(u) / mu
+        np.testing.assert_array_equal(idx, np.argsort(-keys))
+        old_idx, old_scores, _ = _old_thompson(p, 3, s)
+        np.testing.assert_array_equal(scores, old_scores)  # the returned priorities
+        assert idx[0] == old_idx[0]  # the first draw is the same
+        n_differs += not np.array_equal(idx, old_idx)
+        seconds.append(idx[1])
+    assert n_differs > 20  # the case the old ranking got wrong does occur
+    # P(class 1 second) = 0.0013 / 0.002 = 0.65 given class 0 first (fixed seeds)
+    assert 0.58 < np.mean(np.array(seconds) == 1) < 0.72
+
+
+def test_thompson_unchanged_when_nothing_underflows():
+    rng = np.random.default_rng(1)
+    cases = [np.tile(row, (3, 2, 1)) for row in ([0.5, 0.3, 0.2], [0.25] * 4, [0.7, 0.3, 0.0])]
+    cases += [rng.dirichlet(np.ones(5), size=(4, 3)) for _ in range(5)]
+    for p in cases:
+        for s in range(100):
+            seed = np.random.RandomState(s)
+            n = p.shape[-1]
+            idx, scores = thompson_sampling(p, n_instances=n, random_state=seed)
+            old_idx, old_scores, old_rng = _old_thompson(p, n, s)
+            np.testing.assert_array_equal(idx, old_idx)
+            np.testing.assert_array_equal(scores, old_scores)
+            assert seed.randint(2**31) == old_rng.randint(2**31)  # same draws consumed

@@ -208,3 +208,18 @@ def test_variance_decomposition_sums_to_eq2_and_separates_sources():
     d = variance_decomposition(one)
     np.testing.assert_allclose(d["between"], 0, atol=1e-15)
     np.testing.assert_allclose(d["mc_share"], 1, atol=1e-12)
+
+
+def test_entropy_of_certain_predictions_is_plus_zero_and_other_values_unchanged():
+    from scipy.special import xlogy
+
+    p = np.zeros((5, 3, 4))
+    p[:, :, 2] = 1.0
+    s = class_uncertainty(p, "entropy")
+    np.testing.assert_array_equal(s, 0.0)
+    assert not np.any(np.signbit(s))  # 0.0, not -0.0
+    # every other value is bit for bit the plain formula
+    rng = np.random.default_rng(0)
+    q = _dirichlet(rng, (7, 5, 4), 0.3)
+    q[0, 0] = [0.0, 1.0, 0.0, 0.0]
+    np.testing.assert_array_equal(class_uncertainty(q, "entropy"), -xlogy(q, q).mean(axis=(0, 1)))

@@ -45,6 +45,17 @@ def n_rows(X):
 def training_subset(X, y, max_size, rng):
     """The reservoir, or ``max_size`` of its rows drawn without replacement when it holds more.
 
+    The rows are drawn uniformly. If the draw leaves out a class that the
+    reservoir holds (an estimator refitted from scratch would then lose it
+    from ``classes_``), then, with the same ``rng`` after the draw, each
+    missing class (in sorted order) gets one of its reservoir rows drawn
+    uniformly, which replaces a drawn row (drawn uniformly among them) of
+    the class most represented in the subset (the smallest label on ties).
+    A class is only displaced while it has more than one row in the subset,
+    so when ``max_size`` is smaller than the number of classes some stay
+    missing. A draw that covers every class is returned unchanged and
+    consumes no further random numbers.
+
     Parameters
     ----------
     X : rows of any container :func:`concat_rows` builds
@@ -61,4 +72,20 @@ def training_subset(X, y, max_size, rng):
     if max_size is None or size <= max_size:
         return X, y
     subset = rng.choice(size, max_size, replace=False)
+    classes, y_codes = np.unique(y, return_inverse=True)
+    y_codes = y_codes.reshape(-1)
+    counts = np.bincount(y_codes[subset], minlength=classes.shape[0])
+    missing = np.flatnonzero(counts == 0)
+    if missing.size:  # only then: repair the draw, leaving the others untouched
+        subset = subset.copy()
+        for c in missing:
+            most = int(np.argmax(counts))  # first (smallest label) on ties
+            if counts[most] <= 1:
+                break  # every class left has a single row: max_size < n_classes
+            rows_c = np.flatnonzero(y_codes == c)
+            new_row = rows_c[rng.randint(rows_c.shape[0])]
+            slots = np.flatnonzero(y_codes[subset] == most)
+            subset[slots[rng.randint(slots.shape[0])]] = new_row
+            counts[most] -= 1
+            counts[c] += 1
     return _safe_indexing(X, subset), y[subset]

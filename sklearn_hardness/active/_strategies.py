@@ -39,12 +39,13 @@ _STRATEGY_PARAMS = {
 }
 
 
-def _top_classes(scores, n_instances, random_state):
+def _top_classes(scores, n_instances, random_state, *, secondary=None):
     """Indices of the n_instances highest scores, best first.
 
-    Exactly equal scores are ordered by a random permutation drawn from
-    ``random_state``, so ties (e.g. uniform predictions) do not always
-    favour class 0.
+    Exactly equal scores are ordered by ``secondary`` (highest first) when
+    given, then by a random permutation drawn from ``random_state``, so ties
+    (e.g. uniform predictions) do not always favour class 0. The permutation
+    is drawn in every case, so ``random_state`` advances the same way.
     """
     n_classes = scores.shape[0]
     if n_instances > n_classes:
@@ -53,7 +54,10 @@ def _top_classes(scores, n_instances, random_state):
             f"({n_classes}); a strategy picks distinct classes."
         )
     tiebreak = check_random_state(random_state).permutation(n_classes)
-    order = np.lexsort((tiebreak, -scores))
+    if secondary is None:
+        order = np.lexsort((tiebreak, -scores))
+    else:
+        order = np.lexsort((tiebreak, -secondary, -scores))
     return order[:n_instances].astype(np.intp)
 
 
@@ -309,7 +313,12 @@ def margin_sampling(proba_samples, n_instances=1, *, random_state=None):
     top = _top_classes(mu, 1, rng)[0]
     scores = mu - mu[top]
     scores[top] = -1.0
-    return _top_classes(scores, n_instances, rng), scores
+    # The decision class ranks strictly last, also when another class ties
+    # it at -1 (a saturated model: mu_top = 1, mu_i = 0); the returned
+    # scores keep M_t = -1.
+    ranking = scores.copy()
+    ranking[top] = -np.inf
+    return _top_classes(ranking, n_instances, rng), scores
 
 
 @validate_params(_STRATEGY_PARAMS, prefer_skip_nested_validation=True)
@@ -353,6 +362,8 @@ def thompson_sampling(proba_samples, n_instances=1, *, random_state=None):
         The priorities :math:`u_i^{1/\mu_i}` in [0, 1); ``class_indices`` are
         the classes with the highest, so "highest score first" holds as for
         the other strategies. A class with :math:`\mu_i = 0` has priority 0.
+        Priorities that underflow to 0 (small :math:`\mu_i`) are still
+        ranked by :math:`\log(u_i)/\mu_i`, so later draws stay weighted.
         The probabilities :math:`\mu` themselves are
         ``proba_samples.mean(axis=(0, 1))``.
 
@@ -379,8 +390,13 @@ def thompson_sampling(proba_samples, n_instances=1, *, random_state=None):
     rng = check_random_state(random_state)
     u = rng.random_sample(mu.shape[0])
     with np.errstate(divide="ignore", under="ignore"):
-        scores = np.where(mu > 0, np.exp(np.log(u) / np.where(mu > 0, mu, 1.0)), 0.0)
-    return _top_classes(scores, n_instances, rng), scores
+        # log-priorities log(u_i) / mu_i (-inf for mu_i = 0); their exp, the
+        # returned priorities, underflows to 0 for small mu_i, so the ties
+        # of exp are ordered by the log-priorities, not by the random
+        # tie-break (the order is otherwise that of the priorities).
+        keys = np.where(mu > 0, np.log(u) / np.where(mu > 0, mu, 1.0), -np.inf)
+        scores = np.where(mu > 0, np.exp(keys), 0.0)
+    return _top_classes(scores, n_instances, rng, secondary=keys), scores
 
 
 @validate_params(_STRATEGY_PARAMS, prefer_skip_nested_validation=True)

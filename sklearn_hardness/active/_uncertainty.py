@@ -207,7 +207,7 @@ def class_uncertainty(proba_samples, kind="entropy", *, atol=None):
     """
     p = check_proba_samples(proba_samples, atol=atol)
     if kind == "entropy":
-        return -xlogy(p, p).mean(axis=(0, 1))
+        return -xlogy(p, p).mean(axis=(0, 1)) + 0.0  # + 0.0: 0, not -0.0, when certain
     if kind == "variance":
         # two-pass variance about the pooled class mean mu_i (Eq. 2)
         mu = p.mean(axis=(0, 1))
