@@ -634,6 +634,13 @@ def test_training_subset_repairs_a_draw_that_lost_a_class():
     # reproducible for a fixed seed
     a = training_subset(X, y, 6, np.random.RandomState(3))[0]
     np.testing.assert_array_equal(a, training_subset(X, y, 6, np.random.RandomState(3))[0])
+    # nets are told every class (partial_fit's classes=): their draws stay the plain uniform ones
+    for seed in range(100):
+        old, old_rng = _old_training_subset_indices(y.shape[0], 6, seed)
+        rng = np.random.RandomState(seed)
+        np.testing.assert_array_equal(training_subset(X, y, 6, rng, keep_classes=False)[0][:, 0], old)
+        assert rng.randint(2**31) == old_rng.randint(2**31)
+
     # a cap below the number of classes cannot cover them all: no class is displaced
     # below one row, and the subset keeps its size
     y3 = np.repeat([0, 1, 2], [1, 1, 10])
@@ -641,6 +648,30 @@ def test_training_subset_repairs_a_draw_that_lost_a_class():
         X_t, y_t = training_subset(np.arange(12)[:, None], y3, 2, np.random.RandomState(seed))
         assert y_t.shape == (2,) and np.unique(X_t[:, 0]).shape[0] == 2
         assert np.unique(y_t).shape[0] == 2
+
+
+def test_a_net_in_the_learner_gets_the_plain_draw(monkeypatch):
+    """The learner repairs the reservoir draw for models refitted from scratch only."""
+    import sklearn_hardness.active._learner as learner_module
+    from sklearn_hardness.models import LaplaceLogisticRegression
+
+    seen = []
+
+    def spy(X, y, max_size, rng, *, keep_classes=True):
+        seen.append(keep_classes)
+        return X, y
+
+    monkeypatch.setattr(learner_module, "training_subset", spy)
+    rng = np.random.RandomState(0)
+    X0, y0 = rng.normal(size=(12, 3)).astype(np.float32), np.repeat([0, 1, 2], 4)
+    X1, y1 = rng.normal(size=(3, 3)).astype(np.float32), np.array([0, 0, 0])
+    from sklearn_hardness.models import OFNNClassifier
+
+    nets = [OFNNClassifier(max_epochs=1, hidden_units=4, random_state=0), LaplaceLogisticRegression()]
+    for est in nets:
+        learner = ActiveLearner(est, initial_epochs=1, epochs_per_query=1, max_reservoir=10, random_state=0)
+        learner.fit(X0, y0).teach(X1, y1)
+    assert seen == [False, True]
 
 
 def test_refit_estimator_keeps_every_class_under_a_small_cap():

@@ -674,7 +674,9 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         self.reservoir_X_ = concat_rows(self.reservoir_X_, Xt_new)
         self.reservoir_y_ = np.concatenate([self.reservoir_y_, y_new])
         size = self.reservoir_y_.shape[0]
-        X_train, y_train = training_subset(self.reservoir_X_, self.reservoir_y_, M, self._rng)
+        # a model refitted from scratch must see every class; a net is told them (partial_fit's classes)
+        X_train, y_train = training_subset(self.reservoir_X_, self.reservoir_y_, M, self._rng,
+                                           keep_classes=not _trains_in_epochs(self._final()))
         loss, epochs_run = self._train(X_train, y_train, self.epochs_per_query)
         self.n_iterations_ += 1
         self.n_presses_ += n_new

@@ -42,12 +42,12 @@ def n_rows(X):
     return len(X)
 
 
-def training_subset(X, y, max_size, rng):
+def training_subset(X, y, max_size, rng, *, keep_classes=True):
     """The reservoir, or ``max_size`` of its rows drawn without replacement when it holds more.
 
-    The rows are drawn uniformly. If the draw leaves out a class that the
-    reservoir holds (an estimator refitted from scratch would then lose it
-    from ``classes_``), then, with the same ``rng`` after the draw, each
+    The rows are drawn uniformly. With ``keep_classes``, if the draw leaves
+    out a class that the reservoir holds (an estimator refitted from scratch
+    would then lose it from ``classes_``), then, with the same ``rng`` after the draw, each
     missing class (in sorted order) gets one of its reservoir rows drawn
     uniformly, which replaces a drawn row (drawn uniformly among them) of
     the class most represented in the subset (the smallest label on ties).
@@ -63,6 +63,10 @@ def training_subset(X, y, max_size, rng):
     max_size : int or None
         None: no cap.
     rng : numpy.random.RandomState
+    keep_classes : bool, default=True
+        Repair a draw that left out a class. False for estimators that are
+        told every class when they train (skorch nets, ``partial_fit(...,
+        classes=...)``): their draws stay the plain uniform ones.
 
     Returns
     -------
@@ -76,7 +80,7 @@ def training_subset(X, y, max_size, rng):
     y_codes = y_codes.reshape(-1)
     counts = np.bincount(y_codes[subset], minlength=classes.shape[0])
     missing = np.flatnonzero(counts == 0)
-    if missing.size:  # only then: repair the draw, leaving the others untouched
+    if keep_classes and missing.size:  # only then: repair the draw, leaving the others untouched
         subset = subset.copy()
         for c in missing:
             most = int(np.argmax(counts))  # first (smallest label) on ties
