@@ -12,7 +12,7 @@ import os
 
 _spec = importlib.util.spec_from_file_location(
     "_sim_variants", os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
-                                  "benchmarks", "_sim_variants.py"))
+                                  "studies", "scripts", "_sim_variants.py"))
 _variants = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(_variants)
 

@@ -1,0 +1,94 @@
+"""Study: the ready-made pipelines' inputs against the paper's, in the paper's own setting.
+
+``make_ofnn_pipeline`` summarises the optical flow by magnitude quantiles
+(``OpticalFlowFeatures(output="magnitude_quantiles")``) and
+``make_convlstm_pipeline`` appends intensity channels (``IntensityChannels``)
+because they carry over to unseen objects (``sklearn-hardness evaluate
+everyday``). This checks what they do where the paper trains and tests:
+presses of the *same* objects, 5 training presses per object, all other
+presses for testing, several seeds. Each preset's frames are selected once
+(the pipelines' own selectors); each seed draws its own training presses and
+initial weights. Prints test accuracy (mean and std over seeds), time for all
+seeds and peak memory side by side.
+
+    python studies/scripts/pipeline_inputs.py [--presets silicone5 shore9] [--seeds 5]
+"""
+
+import argparse
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+from sklearn.metrics import accuracy_score
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _memory import peak_rss_mb, reset_peak  # noqa: E402
+
+from sklearn_hardness.datasets import make_presses  # noqa: E402
+from sklearn_hardness.features import OpticalFlowFeatures  # noqa: E402
+from sklearn_hardness.models import (  # noqa: E402
+    ConvLSTMClassifier,
+    FrameScaler,
+    IntensityChannels,
+    OFNNClassifier,
+    make_convlstm_pipeline,
+    make_ofnn_pipeline,
+)
+
+
+def _train_test(y, n_train, seed):
+    rng = np.random.default_rng(seed)
+    train = np.concatenate([rng.choice(np.flatnonzero(y == k), n_train, replace=False) for k in np.unique(y)])
+    return train, np.setdiff1d(np.arange(len(y)), train)
+
+
+def _variants(videos):
+    """(name, input X, classifier factory) of each compared variant."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        raw = make_ofnn_pipeline().named_steps["frames"].set_params(n_jobs=2).fit_transform(videos)
+        frames = make_convlstm_pipeline().named_steps["frames"].set_params(n_jobs=2).fit_transform(videos)
+        tracks = OpticalFlowFeatures(output="tracks", n_jobs=2).fit_transform(raw)
+        quantiles = OpticalFlowFeatures(output="magnitude_quantiles", n_jobs=2).fit_transform(raw)
+    scaled = FrameScaler().fit_transform(frames)
+    channels = IntensityChannels().fit_transform(scaled)
+    return [
+        ("ofnn, tracks (paper)", tracks, lambda s: OFNNClassifier(max_epochs=50, random_state=s)),
+        ("ofnn, magnitude quantiles", quantiles, lambda s: OFNNClassifier(max_epochs=50, random_state=s)),
+        ("convlstm 12x16, frames (paper)", scaled, lambda s: ConvLSTMClassifier(random_state=s)),
+        ("convlstm 12x16, + intensity", channels, lambda s: ConvLSTMClassifier(random_state=s)),
+    ]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--presets", nargs="+", default=["silicone5", "shore9"])
+    parser.add_argument("--seeds", type=int, default=5)
+    parser.add_argument("--n-train", type=int, default=5, help="training presses per object")
+    args = parser.parse_args()
+    for preset in args.presets:
+        data = make_presses(preset, random_state=0)
+        y = np.asarray(data.target)
+        t0 = time.perf_counter()
+        variants = _variants(data.videos)
+        print(f"\n{preset}: {len(y)} presses of {len(np.unique(y))} objects, {args.n_train} training presses "
+              f"per object, the rest for testing, {args.seeds} seeds (frames selected in "
+              f"{time.perf_counter() - t0:.0f} s)")
+        print(f"{'input':<34}{'accuracy':>18}{'time (s)':>10}{'peak RSS (MB)':>15}")
+        for name, X, make in variants:
+            reset_peak()
+            t0 = time.perf_counter()
+            acc = []
+            for seed in range(args.seeds):
+                train, test = _train_test(y, args.n_train, seed)
+                clf = make(seed).fit(X[train], y[train])
+                acc.append(accuracy_score(y[test], clf.predict(X[test])))
+            dt = time.perf_counter() - t0
+            text = f"{100 * np.mean(acc):.1f}% +- {100 * np.std(acc):.1f}%"
+            print(f"{name:<34}{text:>18}{dt:>10.1f}{peak_rss_mb():>15.0f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
