@@ -41,8 +41,6 @@ import warnings
 import numpy as np
 import torch
 
-from _output import report
-from bench_mc_dropout import tiny_dinov2
 
 LOAD_ON_CPU = """
 import pickle, sys, warnings
@@ -57,6 +55,16 @@ np.savez(sys.argv[3], **{name: net.predict_proba(X[name]) for name, net in nets.
 """
 
 
+
+def tiny_dinov2():
+    """A randomly initialised one-layer DINOv2 backbone (no download)."""
+    import transformers
+
+    torch.manual_seed(0)
+    cfg = transformers.Dinov2Config(hidden_size=32, num_hidden_layers=1, num_attention_heads=2,
+                                    intermediate_size=64, image_size=28, patch_size=14)
+    return transformers.Dinov2Model(cfg).eval()
+
 def inputs(n_per_class, seed):
     """Per net: its input rows of every press (per-press steps run once, on the CPU), and the labels."""
     from sklearn_hardness.datasets import make_presses
@@ -65,7 +73,7 @@ def inputs(n_per_class, seed):
 
     data = make_presses("silicone5", n_per_class=n_per_class, image_size=(120, 160), random_state=seed)
     videos = [data.videos[i] for i in range(len(data.target))]
-    backbone = tiny_dinov2()  # bench_mc_dropout's: 28x28 input, random weights
+    backbone = tiny_dinov2()  # 28x28 input, random weights
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         rows = {"convlstm": make_convlstm_pipeline(intensity_channels=True)[:-1].fit_transform(videos),
@@ -172,7 +180,11 @@ def main(argv=None):
                      f"| {pickled} |")
     if done.returncode != 0:
         lines += ["", "loading the pickle where no GPU is seen failed:", done.stderr[-2000:]]
-    report("\n".join(lines), args.out)
+    text = "\n".join(lines)
+    print(text)
+    if args.out:
+        with open(args.out, "w") as f:
+            f.write(text + "\n")
 
 
 if __name__ == "__main__":

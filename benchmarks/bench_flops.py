@@ -4,8 +4,7 @@ Counts the floating-point operations of one training step (forward, backward,
 Adam update excluded) of ``ConvLSTMNet`` with ``torch.utils.flop_counter`` and
 times the step; divides one by the other and compares the result with the
 rate of a large float32 matrix product on the same threads (the practical
-peak of these cores; ``experiments.matmul_gflops``, whose one-thread figure
-the provenance of generated tables records). Printed per input size: batch, GFLOP per step, ms per
+peak of these cores, ``matmul_gflops`` below). Printed per input size: batch, GFLOP per step, ms per
 step (median of ``--repeat``), achieved GFLOP/s and its share of the
 matrix-product peak; and the same for 50 MC-dropout passes over 5 test
 presses as ``predict_proba_samples`` runs them (the recurrent stack once,
@@ -23,8 +22,20 @@ import numpy as np
 import torch
 from torch.utils.flop_counter import FlopCounterMode
 
-from sklearn_hardness.experiments import matmul_gflops
 from sklearn_hardness.models import ConvLSTMNet
+
+
+def matmul_gflops(n=2048, repeat=3):
+    """Float32 ``n x n`` matrix-product rate on the current torch threads, GFLOP/s (median of ``repeat``)."""
+    gen = torch.Generator().manual_seed(0)
+    a, b = torch.randn(n, n, generator=gen), torch.randn(n, n, generator=gen)
+    a @ b  # warm-up
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        a @ b
+        times.append(time.perf_counter() - start)
+    return 2 * n**3 / float(np.median(times)) / 1e9
 
 
 def median_time(fn, repeat, warmup=2):
@@ -55,7 +66,7 @@ def main():
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
     torch.manual_seed(0)
-    peak = matmul_gflops(args.matmul, args.repeat, threads=None) * 1e9  # the provenance's reference too
+    peak = matmul_gflops(args.matmul, args.repeat) * 1e9
     print(f"torch {torch.__version__}, {args.threads} thread(s), "
           f"LD_PRELOAD={os.environ.get('LD_PRELOAD', '') or '-'}")
     print(f"float32 matmul {args.matmul}^3: {peak / 1e9:.1f} GFLOP/s (the reference peak)")

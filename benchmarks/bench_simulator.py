@@ -104,11 +104,15 @@ def main():
               f"chance 0.20; {dt:.1f} s); contact found on every press: {found}")
         for name, a in acc.items():
             print(f"  {name:<24} accuracy {a:.3f}")
+        print("result: accuracy " + ", ".join(f"{name} {a:.2f}" for name, a in acc.items()))
 
 
 def _everyday(args):
     from sklearn_hardness.datasets import make_presses
-    from sklearn_hardness.experiments import evaluate_pipelines, format_evaluation
+    try:
+        from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation
+    except ImportError:  # before 0.1.0 they lived in experiments
+        from sklearn_hardness.experiments import evaluate_pipelines, format_evaluation
     from sklearn_hardness.preprocessing import contact_curve
 
     codec = None if args.codec == "none" else args.codec

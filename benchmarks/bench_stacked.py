@@ -10,19 +10,15 @@ the achieved GFLOP/s (K times one net's forward and backward counted by
 ``torch.utils.flop_counter``, the Adam update excluded, as ``bench_flops.py``;
 the counter overcounts the backward of vmap's grouped convolutions, so the
 stacked call itself is not counted) and its share of the float32
-matrix-product rate of the device (on CPU ``experiments.matmul_gflops``,
-which ``bench_flops.py`` uses as its reference; on CUDA the same product timed
+matrix-product rate of the device (on CPU timed with torch, as
+``bench_flops.py`` does; on CUDA the same product timed
 on the GPU, TF32 off), and the peak memory (resident set on CPU, reset per
 measurement; ``torch.cuda.max_memory_allocated`` on CUDA).
 
 ``--ensemble`` adds the estimator-level figure: ``EnsembleClassifier`` of 5
 ``ConvLSTMClassifier`` members against one ``ConvLSTMClassifier``, fit on
 ``--presses`` tiny presses, with ``stacked=False`` and ``stacked=True``. It
-needs skorch; without skorch it prints why it is skipped.
-
-The net part needs only torch, numpy and scikit-learn: without skorch the
-package's skorch-based classes are replaced by inert stand-ins before
-``sklearn_hardness.models._convlstm`` is imported (the nets do not use them).
+uses the skorch classifiers.
 
     python benchmarks/bench_stacked.py --k 1 5 20 --device cpu --threads 1
     python benchmarks/bench_stacked.py --device cuda --k 1 5 20 50 --size 18x24
@@ -30,91 +26,54 @@ package's skorch-based classes are replaced by inert stand-ins before
 """
 
 import argparse
-import importlib.abc
-import importlib.machinery
-import importlib.util
 import os
 import sys
 import time
-import types
 
 import numpy as np
 import torch
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _memory import peak_rss_mb, reset_peak  # noqa: E402  benchmarks/_memory.py
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from sklearn_hardness.models import ConvLSTMNet, StackedConvLSTMNet
 
 
-class _Inert:
-    """Stand-in for a skorch class: accepts any arguments, does nothing."""
-
-    def __init__(self, *args, **kwargs):
-        pass
-
-
-class _InertModule(types.ModuleType):
-    def __getattr__(self, name):
-        if name.startswith("__"):
-            raise AttributeError(name)
-        return type(name, (_Inert,), {})
-
-
-class _InertSkorch(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """Finder that makes ``skorch`` and ``skorch.*`` inert modules (only when skorch is missing)."""
-
-    def find_spec(self, fullname, path=None, target=None):
-        if fullname == "skorch" or fullname.startswith("skorch."):
-            return importlib.machinery.ModuleSpec(fullname, self, is_package=True)
-        return None
-
-    def create_module(self, spec):
-        module = _InertModule(spec.name)
-        module.__path__ = []
-        return module
-
-    def exec_module(self, module):
-        pass
-
-
-def _package_without_init(name):
-    """Register package ``name`` (under the repository) without running its ``__init__``."""
-    if name in sys.modules:
-        return
-    path = os.path.join(ROOT, *name.split("."))
-    spec = importlib.machinery.ModuleSpec(name, None, is_package=True)
-    spec.submodule_search_locations = [path]
-    module = importlib.util.module_from_spec(spec)
-    module.__path__ = [path]
-    sys.modules[name] = module
-
-
-def load_nets():
-    """``ConvLSTMNet``, ``StackedConvLSTMNet``, ``matmul_gflops`` and whether skorch is installed."""
-    if ROOT not in sys.path:
-        sys.path.insert(0, ROOT)
+def reset_peak():
+    """Reset the resident-set high-water mark (Linux; no-op elsewhere)."""
     try:
-        have_skorch = importlib.util.find_spec("skorch") is not None
-    except ImportError:
-        have_skorch = False
-    if have_skorch:
-        from sklearn_hardness.experiments._provenance import matmul_gflops
-        from sklearn_hardness.models import ConvLSTMNet, StackedConvLSTMNet
-    else:
-        sys.meta_path.insert(0, _InertSkorch())
-        for name in ("sklearn_hardness.models", "sklearn_hardness.experiments"):
-            _package_without_init(name)
-        from sklearn_hardness.experiments._provenance import matmul_gflops
-        from sklearn_hardness.models._convlstm import ConvLSTMNet
-        from sklearn_hardness.models._stacked import StackedConvLSTMNet
-    return ConvLSTMNet, StackedConvLSTMNet, matmul_gflops, have_skorch
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+    except OSError:
+        pass
 
 
-def matmul_reference(device, n, repeat, matmul_gflops):
-    """Float32 matrix-product GFLOP/s on ``device`` (CPU: the library's reference)."""
+def peak_rss_mb():
+    """Peak resident set size since the last :func:`reset_peak`, in MB (NaN if unknown)."""
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmHWM"):
+                    return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return float("nan")
+
+
+def matmul_gflops(n=2048, repeat=3):
+    """Float32 ``n x n`` matrix-product rate on the current torch threads, GFLOP/s (median of ``repeat``)."""
+    gen = torch.Generator().manual_seed(0)
+    a, b = torch.randn(n, n, generator=gen), torch.randn(n, n, generator=gen)
+    a @ b  # warm-up
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        a @ b
+        times.append(time.perf_counter() - start)
+    return 2 * n**3 / float(np.median(times)) / 1e9
+
+
+def matmul_reference(device, n, repeat):
+    """Float32 matrix-product GFLOP/s on ``device``."""
     if device.type == "cpu":
-        return matmul_gflops(n, repeat, threads=None)
+        return matmul_gflops(n, repeat)
     torch.backends.cuda.matmul.allow_tf32 = False
     gen = torch.Generator(device=device).manual_seed(0)
     a = torch.randn(n, n, device=device, generator=gen)
@@ -281,11 +240,10 @@ def main():
     device = torch.device(args.device)
     if device.type == "cuda" and not torch.cuda.is_available():
         ap.error("--device cuda but torch sees no GPU")
-    ConvLSTMNet, StackedConvLSTMNet, matmul_gflops, have_skorch = load_nets()
     n = args.matmul or (8192 if device.type == "cuda" else 2048)
-    peak = matmul_reference(device, n, 5, matmul_gflops)
+    peak = matmul_reference(device, n, 5)
     name = torch.cuda.get_device_name(device) if device.type == "cuda" else f"{args.threads} CPU thread(s)"
-    print(f"torch {torch.__version__}, {name}, skorch {'installed' if have_skorch else 'missing (inert stand-ins)'}, "
+    print(f"torch {torch.__version__}, {name}, "
           f"LD_PRELOAD={os.environ.get('LD_PRELOAD', '') or '-'}")
     print(f"float32 matmul {n}^3 on {device.type}: {peak:.1f} GFLOP/s (the reference); "
           f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
@@ -310,10 +268,7 @@ def main():
               f"{sep[3]:>22}{m_st:>22.0f}")
         sys.stdout.flush()
     if args.ensemble:
-        if not have_skorch:
-            print("\n--ensemble skipped: skorch is not installed (EnsembleClassifier trains skorch nets)")
-        else:
-            bench_ensemble(args)
+        bench_ensemble(args)
 
 
 if __name__ == "__main__":

@@ -23,7 +23,7 @@ setting and change how the run is executed::
 
     python benchmarks/bench_time_error.py                       # every configuration, 1 seed
     python benchmarks/bench_time_error.py --seeds 2 --configs paper "frames 12x16"
-    python benchmarks/bench_time_error.py --out docs/_output/time_error
+    python benchmarks/bench_time_error.py --out time_error
 
 "Skip what a press does not need": ``early stopping 5`` stops each training call
 after the initial one once the training loss has not improved for 5 epochs
@@ -34,7 +34,7 @@ its contact before resizing (``crop_contact=0.5``)::
 
     python benchmarks/bench_time_error.py --configs paper "frames 12x16" "early stopping 5" \
         "crop 0.5" "crop 0.5, frames 12x16" "frames 12x16, early stopping 5" \
-        --out docs/_output/time_error_skip
+        --out time_error_skip
 """
 
 import argparse
@@ -75,20 +75,28 @@ def _peak_rss_mib(who):
     return resource.getrusage(who).ru_maxrss / 1024
 
 
+def prepare(dataset, memory, model=None, quick=False, **overrides):
+    """Cache the dataset's prepared inputs in ``memory`` (a one-iteration run of one epoch)."""
+    from sklearn_hardness.experiments import run_active_sampling
+
+    short = dict(overrides, initial_epochs=1, epochs_per_query=1, n_iterations=1)
+    kwargs = {} if model is None else {"model": model}
+    run_active_sampling(dataset, strategies=("random",), test_classes=[0], seeds=[0], quick=quick,
+                        n_jobs=1, memory=memory, verbose=0, **kwargs, **short)
+
+
 def one_config(name, seeds, n_jobs, cache):
     """Run one configuration in this process; print a JSON line with its figures."""
     import torch
     from joblib.externals.loky import get_reusable_executor
 
-    from sklearn_hardness.experiments import get_config, run_active_sampling
-    from sklearn_hardness.experiments._data import prepare_inputs
+    from sklearn_hardness.experiments import run_active_sampling
 
     overrides, threads, _ = CONFIGS[name]
     overrides = dict(PAPER, **overrides, n_holdout=5)
     torch.set_num_threads(threads)
     n_jobs = max(1, n_jobs // threads)
-    cfg = get_config("silicone5", **overrides)
-    prepare_inputs("silicone5", cfg, cfg["model"], memory=cache, verbose=0)  # cached, not timed
+    prepare("silicone5", cache, **overrides)  # cached, not timed
     t = time.perf_counter()
     res = run_active_sampling("silicone5", strategies=("variance",), seeds=range(seeds), n_jobs=n_jobs,
                               memory=cache, verbose=0, **overrides)

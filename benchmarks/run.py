@@ -1,0 +1,160 @@
+"""Run the performance benchmarks and print one table: time, peak memory and error side by side.
+
+Each case runs ``python benchmarks/bench_<name>.py ARGS`` in its own process;
+the runner measures its wall time and the peak resident memory of the process
+and its children (psutil, sampled every 0.2 s, and the process's own maximum), and reads the error or accuracy from
+the last ``result: ...`` line the benchmark printed ("-" where it has none).
+The benchmarks' own output goes to ``--log`` (default ``benchmarks.log``).
+
+    python benchmarks/run.py --quick              # every benchmark, small cases (a few minutes on 2 cores)
+    python benchmarks/run.py                      # the benchmarks' own defaults (an hour or more)
+    python benchmarks/run.py --quick convlstm mc_dropout
+    python benchmarks/run.py --list
+
+No benchmark imports another, nor a private module of the package.
+"""
+
+import argparse
+import os
+import subprocess
+import sys
+import threading
+import time
+
+import psutil
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+#: name -> cases: (case, quick arguments or None to skip in --quick, full arguments, needs)
+BENCHMARKS = {
+    "simulator": [
+        ("silicone5 render", ["--image-size", "96", "128", "--no-check"], [], None),
+    ],
+    "features": [
+        ("optical flow", ["--n-videos", "20", "--skip-dinov2"], [], None),
+    ],
+    "convlstm": [
+        ("epoch vs input size", ["--sizes", "12x16,30x40", "--colors", "gray", "--n-train", "20",
+                                 "--n-test", "20", "--epochs", "10"], [], None),
+    ],
+    "flops": [
+        ("ConvLSTM step", ["--sizes", "12x16,18x24", "--repeat", "3", "--matmul", "1024"], [], None),
+    ],
+    "mc_dropout": [
+        ("batched vs loop", ["--size", "12x16", "--n-test", "5", "--repeat", "1", "--mlp-n", "45"], [], None),
+    ],
+    "stacked": [
+        ("K nets vs stacked", ["--k", "1", "5", "--steps", "2", "--repeat", "1"], [], None),
+    ],
+    "active_sampling": [
+        ("one run (--quick settings)", ["--quick"], [], None),
+    ],
+    "paired_sharing": [
+        ("shared initial model", ["shared", "--quick"], ["shared"], None),
+        ("one initial model per strategy", ["separate", "--quick"], ["separate"], None),
+    ],
+    "time_error": [
+        ("paper vs 12x16 frames", None, ["--configs", "paper", "frames 12x16"], None),
+    ],
+    "device": [
+        ("GPU beside CPU", ["--n-per-class", "4", "--epochs", "2"], [], "cuda"),
+    ],
+}
+
+
+def _has_cuda():
+    try:
+        import torch
+    except ImportError:
+        return False
+    return torch.cuda.is_available()
+
+
+def run_case(name, args, log):
+    """Wall seconds, peak RSS in MB (process tree) and the last ``result:`` line of one case."""
+    cmd = [sys.executable, os.path.join(HERE, f"bench_{name}.py"), *args]
+    log.write(f"\n$ {' '.join(cmd)}\n")
+    log.flush()
+    start = time.perf_counter()
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1)
+    peak = [0]
+    done = threading.Event()
+
+    def sample():  # the tree's resident memory every 0.2 s: joblib's workers count too
+        root = psutil.Process(proc.pid)
+        while not done.wait(0.2):
+            peak[0] = max(peak[0], _tree_rss(root))
+
+    sampler = threading.Thread(target=sample, daemon=True)
+    sampler.start()
+    result = "-"
+    for line in proc.stdout:
+        log.write(line)
+        if line.startswith("result: "):
+            result = line[len("result: "):].strip()
+    _, status, usage = os.wait4(proc.pid, 0)  # the child's own peak, with the children it waited for
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    wall = time.perf_counter() - start
+    done.set()
+    sampler.join()
+    peak_mb = max(peak[0], usage.ru_maxrss * 1024) / 2**20  # Linux reports ru_maxrss in KiB
+    if proc.returncode:
+        result = f"FAILED (exit {proc.returncode}; see the log)"
+    return wall, peak_mb, result
+
+
+def _tree_rss(root):
+    try:
+        procs = [root, *root.children(recursive=True)]
+    except psutil.Error:
+        return 0
+    total = 0
+    for p in procs:
+        try:
+            total += p.memory_info().rss
+        except psutil.Error:
+            pass
+    return total
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("names", nargs="*", help="benchmarks to run (default: all)")
+    ap.add_argument("--quick", action="store_true", help="small cases, a few minutes on 2 cores")
+    ap.add_argument("--log", default="benchmarks.log", help="where the benchmarks' own output goes")
+    ap.add_argument("--list", action="store_true", help="list the benchmarks and their cases")
+    args = ap.parse_args(argv)
+    unknown = sorted(set(args.names) - set(BENCHMARKS))
+    if unknown:
+        ap.error(f"unknown benchmark(s) {unknown}; choose from {sorted(BENCHMARKS)}")
+    names = args.names or list(BENCHMARKS)
+    if args.list:
+        for name in names:
+            for case, quick, full, needs in BENCHMARKS[name]:
+                print(f"{name:<16} {case:<32} quick: {' '.join(quick) if quick is not None else '(skipped)'}"
+                      f"{'  needs ' + needs if needs else ''}")
+        return 0
+    cuda = _has_cuda()
+    header = f"{'benchmark':<16}{'case':<34}{'wall s':>9}{'peak MB':>9}  error / accuracy"
+    print(header)
+    print("-" * len(header))
+    failed = 0
+    with open(args.log, "w") as log:
+        for name in names:
+            for case, quick, full, needs in BENCHMARKS[name]:
+                case_args = quick if args.quick else full
+                if case_args is None:
+                    print(f"{name:<16}{case:<34}{'':>9}{'':>9}  skipped (not in --quick)")
+                    continue
+                if needs == "cuda" and not cuda:
+                    print(f"{name:<16}{case:<34}{'':>9}{'':>9}  skipped (no CUDA device)")
+                    continue
+                wall, peak, result = run_case(name, case_args, log)
+                failed += result.startswith("FAILED")
+                print(f"{name:<16}{case:<34}{wall:>9.1f}{peak:>9.0f}  {result}", flush=True)
+    print(f"\nthe benchmarks' output: {args.log}")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
