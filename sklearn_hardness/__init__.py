@@ -22,7 +22,7 @@ experiments
 
 import importlib
 
-__version__ = "0.1.0.dev0"
+__version__ = "0.1.0"
 
 _SUBMODULES = [
     "io",

@@ -16,7 +16,7 @@ import re
 
 from scipy import stats
 
-OUTPUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "docs", "_output")
+OUTPUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "outputs")
 # the silicone5 tables with a thompson row (the paper's settings; the fast setting; its fresh seeds)
 TABLES = ("paper_silicone5_paired.txt", "fast_silicone5_paired.txt", "fast_silicone5_fresh_seeds_paired.txt")
 # "thompson  accuracy %  50 (50 pairs)  90.0 [83.7, 96.3]  +14.0 [2.6, 25.4] ..."
