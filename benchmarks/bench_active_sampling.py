@@ -109,7 +109,10 @@ def one_run(args):
     print(f"{'active-sampling run':<28}{wall:>9.1f}{cpu:>9.1f}{_peak_rss_mib():>14.0f}  "
           f"converged={r['converged']} (loss {r['initial_train_loss']:.3f}), accuracy per iteration "
           f"{[round(a, 2) for a in r['accuracy']]}, queried {r['queried']}")
-    print(f"result: test accuracy {r['accuracy'][-1]:.2f} after {len(r['accuracy']) - 1} queries")
+    if r["converged"]:
+        print(f"result: test accuracy {r['accuracy'][-1]:.2f} after {len(r['accuracy']) - 1} queries")
+    else:
+        print(f"result: initial training did not converge (loss {r['initial_train_loss']:.2f}); no queries")
 
 
 def paired(args):
