@@ -24,7 +24,7 @@ from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import make_pipeline
 
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import make_peak_change_baseline, peak_contact_change
+from sklearn_hardness.models import make_peak_change_baseline, peak_contact_change
 from sklearn_hardness.features import ContactProfileFeatures, OpticalFlowFeatures
 from sklearn_hardness.models import (
     ConvLSTMClassifier,

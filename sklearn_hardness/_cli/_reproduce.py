@@ -8,7 +8,7 @@ import os
 import sys
 import textwrap
 
-from .._experiment_names import LOGISTIC_MODELS, MODEL_NAMES
+from .._registry import EXPERIMENT_MODELS, pipeline_info
 from ._common import (
     _SIM_PRESETS,
     _add_quiet,
@@ -101,7 +101,7 @@ def _add_reproduce(sub):
                    help="manifest CSV of real recordings (see load_press_videos; with an object_id "
                    "column and several objects per class the runs are object-disjoint) or 'everyday' "
                    "(simulated everyday objects); default: the simulator with the preset's objects")
-    p.add_argument("--model", default=None, choices=MODEL_NAMES,
+    p.add_argument("--model", default=None, choices=EXPERIMENT_MODELS,
                    help="classifier (default: the preset's)")
     p.add_argument("--dinov2-model", default=None,
                    help="DINOv2 weights for dinov2nn: a Hugging Face id in the local cache or a local "
@@ -254,7 +254,8 @@ def _run_reproduce(args):
     rows = comparison_table(result)
     n_it = cfg["n_iterations"]
     table = format_table(rows, mae_unit=cfg.get("hardness_unit"))
-    if cfg["model"] in LOGISTIC_MODELS:  # a logistic regression refitted per iteration
+    if cfg["model"] in EXPERIMENT_MODELS and not pipeline_info(cfg["model"]).random:  # a logistic regression
+        # refitted per iteration
         training = (f"M={cfg['max_reservoir']}, refitted per iteration, n_test={cfg['n_test']}, "
                     f"Laplace posterior samples={cfg['n_mc_samples']}")
     else:

@@ -21,8 +21,6 @@
 
 from ._active import STRATEGIES, planned_config_hash, run_active_sampling
 from ._baselines import run_dropout_sweep, run_model_baselines
-from ._evaluate import evaluate_pipelines, format_evaluation, plot_confusion_matrices
-from ._peak_baseline import make_peak_change_baseline, peak_contact_change
 from ._plotting import (
     plot_active_sampling,
     plot_dropout_sweep,
@@ -47,7 +45,6 @@ __all__ = [
     "run_active_sampling",
     "run_model_baselines",
     "run_dropout_sweep",
-    "evaluate_pipelines", "format_evaluation", "make_peak_change_baseline", "peak_contact_change", "plot_confusion_matrices",  # noqa: E501
     "comparison_table",
     "baseline_table",
     "format_table",

@@ -41,9 +41,16 @@ from ._pipelines import (
     make_loading_compliance_pipeline,
     make_ofnn_pipeline,
 )
+from ._peak_change import make_peak_change_baseline, peak_contact_change
 from ._stacked import StackedConvLSTMNet
+from .._registry import make_named_pipeline, pipeline_info, pipeline_names
 
 __all__ = [
+    "pipeline_names",
+    "pipeline_info",
+    "make_named_pipeline",
+    "make_peak_change_baseline",
+    "peak_contact_change",
     "make_convlstm_pipeline",
     "make_ofnn_pipeline",
     "make_dinov2nn_pipeline",
