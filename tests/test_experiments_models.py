@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from sklearn_hardness._registry import pipeline_info
-from sklearn_hardness.experiments import MODEL_NAMES, get_config
+from sklearn_hardness.experiments import get_config
+from sklearn_hardness.experiments._models import MODEL_NAMES
 from sklearn_hardness.experiments._config import check_config
 from sklearn_hardness.experiments._data import _feature_params, _frame_params
 from sklearn_hardness.experiments._models import make_estimator, model_pipeline

@@ -117,7 +117,8 @@ def test_margin_interval_is_corrected_for_overlapping_training_sets(tiny):
         plain = t * diff.std(ddof=1) / np.sqrt(len(diff))
         assert half > plain * 1.5  # 3 folds: sqrt(1 + 3 * 0.5) = 1.58
         # the public function gives the table's interval
-        assert corrected_interval(result.fold_scores[row["pipeline"]], ratio, baseline=result.fold_scores["peak_change"],
+        assert corrected_interval(result.fold_scores[row["pipeline"]], ratio,
+                                  baseline=result.fold_scores["peak_change"],
                                   bounds=(-1, 1)) == (row["vs_baseline"], row["vs_baseline_ci"])
 
 
@@ -400,12 +401,12 @@ def test_cli_evaluate_on_a_manifest(tmp_path, capsys, monkeypatch):
     assert saved["recommended"] is None and saved["recommended_with_samples"] is None  # the baseline alone
     # one press per object: the figures per object are those per press, and the table leaves them out
     assert saved["object_fold_scores"] == saved["fold_scores"] and "per object" not in text
-    # the saved table says what made it: the command less --out, and the code that ran
-    from sklearn_hardness.experiments import code_fingerprint, parse_provenance
+    # the saved table says what made it: the command less --out, the commit, the machine
+    from sklearn_hardness.experiments._provenance import parse_provenance
 
     record = parse_provenance((out / "evaluation.txt").read_text())
     assert record["command"] == f"sklearn-hardness evaluate {root / 'manifest.csv'} --pipelines --cv 3"
-    assert record["code_fingerprint"] == code_fingerprint() and saved["provenance"] == record
+    assert record["machine"]["matmul_gflops"] > 0 and saved["provenance"] == record
     assert "object-disjoint 3-fold CV" in (out / "evaluation.txt").read_text()
     # --n-repeats: the folds of every repetition, saved and named in the table
     assert main(["evaluate", str(root / "manifest.csv"), "--pipelines", "--cv", "3", "--n-repeats", "2",

@@ -68,7 +68,7 @@ def _run_evaluate(args):
 
     import numpy as np
 
-    from ..experiments import parse_provenance, provenance_header
+    from ..experiments._provenance import parse_provenance, provenance_header
     from ..model_selection import evaluate_pipelines, format_evaluation, plot_confusion_matrices
     from ..utils._validation import check_roi
 

@@ -24,7 +24,8 @@ from sklearn.pipeline import Pipeline
 from .._registry import EXPERIMENT_MODELS, builder, make_named_pipeline, pipeline_info
 from .. import models
 from ..features import ContactProfileFeatures, DINOv2Features, LoadingCompliance, OpticalFlowFeatures
-from ..models import EarlyStoppingAfterFirstFit, FrameScaler
+from ..models._callbacks import EarlyStoppingAfterFirstFit
+from ..models._pipelines import FrameScaler
 from ..utils._random import set_random_states
 
 MODEL_NAMES = EXPERIMENT_MODELS

@@ -93,7 +93,10 @@ def _interval(values, test_train_ratio, df, *, bounds, confidence=0.95):
 
 
 def paired_difference(scores, base, test_train_ratio, df):
-    """Mean over folds of ``scores - base`` and its corrected 95% interval, clipped to [-1, 1]; (None, None) without a base."""
+    """Mean over folds of ``scores - base`` and its corrected 95% interval, clipped to [-1, 1].
+
+    (None, None) without a base.
+    """
     if base is None:
         return None, None
     return _interval(np.asarray(scores, dtype=float) - np.asarray(base, dtype=float), test_train_ratio, df,
