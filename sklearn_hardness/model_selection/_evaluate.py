@@ -324,20 +324,12 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     (:class:`~sklearn.model_selection.StratifiedGroupKFold` over
     ``object_id``), so the score says how a pipeline does on a new object.
     Every pipeline sees the same folds; the one-number baseline
-    (:func:`~sklearn_hardness.models.make_peak_change_baseline`) runs beside them, and each pipeline's
-    margin over it is paired by fold. ``recommended`` names the pipeline to
-    choose for these objects: the best one whose margin's 95% interval lies
-    above 0, or None when the one number does as well within the spread of
-    the folds (on real recordings of unseen objects the paper's nets did not
-    beat it, issue 20: measure before choosing). Every interval is corrected
-    for the folds' overlapping training sets (Nadeau and Bengio's corrected
-    t-interval, as in scikit-learn's example "Statistical comparison of
-    models using grid search"): the plain t-interval over folds is too
-    narrow, and recommended pipelines that did not carry over to newly
-    drawn objects (``benchmarks/bench_recommendation.py``). ``n_repeats``
-    repeats the object-disjoint split with other assignments of objects to
-    folds, so that the figures and the recommendation depend less on one
-    assignment; it does not make up for few objects.
+    (:func:`~sklearn_hardness.models.make_peak_change_baseline`) runs beside
+    them, and each pipeline's margin over it is paired by fold. Every interval
+    is corrected for the folds' overlapping training sets
+    (:func:`corrected_interval`). ``recommended`` names the best pipeline whose
+    margin's interval lies above 0, or None when the one number does as well.
+    See the user guide's page on evaluating pipelines on new objects.
 
     Parameters
     ----------
@@ -348,61 +340,27 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         holding ``manifest.csv``) read with
         :func:`~sklearn_hardness.datasets.load_press_videos`.
     pipelines : dict, list of str or None, default=None
-        ``{name: estimator}``, or names among ``"peak_change"``,
-        ``"contact_profile"`` (:class:`~sklearn_hardness.features.ContactProfileFeatures`
-        + balanced logistic regression,
-        :class:`~sklearn_hardness.models.LaplaceLogisticRegression`, whose
-        ``predict_proba_samples`` come from its Laplace posterior),
-        ``"contact_profile_3"`` (the same with three of the features:
-        ``log_peak_change``, ``log_loading_time`` and ``log_contact_spread``,
-        the video's readings of the contact's depth, loading time and size),
-        ``"contact_profile_nn"`` (the same features +
-        :class:`~sklearn_hardness.models.ContactProfileNNClassifier`, MC
-        dropout), ``"convlstm"``, ``"ofnn"``,
-        ``"dinov2nn"`` (the ready-made pipelines of
-        :mod:`sklearn_hardness.models`, built by their ``make_*_pipeline``
-        factories, the ConvLSTM with ``intensity_channels=True``), and
-        ``"loading_compliance"``
-        (:func:`~sklearn_hardness.models.make_loading_compliance_pipeline`:
-        not the video but each press's force and position per frame, the
-        dataset's ``force`` and ``position``; a manifest gives them with
-        ``force_path`` and ``position_path`` columns, the simulator's presets
-        always). A pipeline given in a dict whose first step is a
-        :class:`~sklearn_hardness.features.LoadingCompliance` reads them too.
-        None: ``["contact_profile", "contact_profile_nn", "convlstm", "ofnn"]``,
-        and ``"loading_compliance"`` where every press has its force and
-        position (a manifest with ``force_path`` and ``position_path``, the
-        simulator's presets); on real recordings of unseen objects the
-        contact-profile features were the video input that beat the
-        one-number baseline (issue 20), so they run by default beside the
-        paper's nets; where a robot recorded force and position, those tell
-        hardness more directly than any video input (on simulated new
-        objects, and in ordering real GelSight Wedge grasps). The leading
-        steps that turn each press into its row by that press alone (frame
-        selection, the contact-profile features, optical flow, frozen DINOv2
-        features, the peak change) run once over all presses, not once per
-        fold, and
-        pipelines that start with the same such steps share them (the two
-        contact-profile ones): the same scores, a ``cv``-th of the work in
-        those steps.
+        ``{name: estimator}``, or names of
+        :func:`~sklearn_hardness.models.pipeline_names` (built by
+        :func:`~sklearn_hardness.models.make_named_pipeline`;
+        ``"loading_compliance"`` reads each press's ``force`` and
+        ``position``, as does a given pipeline whose first step is a
+        :class:`~sklearn_hardness.features.LoadingCompliance`). None:
+        ``"contact_profile"``, ``"contact_profile_nn"``,
+        ``"convlstm_intensity"``, ``"ofnn_quantiles"``, and
+        ``"loading_compliance"`` where every press has force and position.
+        The leading steps that turn each press into its row by that press
+        alone (frame selection, frozen features, the peak change) run once
+        over all presses, not once per fold, shared by the pipelines that
+        start with them: the same scores for less work.
     cv : int, default=5
         Number of folds. Every class needs at least ``cv`` objects.
     n_repeats : int, default=1
-        Times the object-disjoint ``cv``-fold split is repeated, each time
-        with another assignment of objects to folds (a grouped
-        :class:`~sklearn.model_selection.RepeatedStratifiedKFold`), at
-        ``n_repeats`` times the compute. The means run over the
-        ``n_repeats * cv`` fold scores, and so depend less on how the
-        objects fell into folds. The intervals use the corrected variance
-        ``var * (1 / (n_repeats * cv) + n_test / n_train)`` over them, but
-        keep the ``cv - 1`` degrees of freedom of one repetition: every
-        repetition reuses the same objects, and with ``n_repeats * cv - 1``
-        degrees of freedom (Bouckaert and Frank, 2004) the margin's lower
-        end lay above 0 between equal pipelines more often than a 95%
-        interval promises (``benchmarks/bench_margin_interval.py
-        --n-repeats 5``; figures in the simulator page of the docs).
-        Repetitions do not narrow the intervals much: what narrows them is
-        more objects.
+        Times the object-disjoint split is repeated with other assignments
+        of objects to folds. The means and intervals run over the
+        ``n_repeats * cv`` fold scores, with the ``cv - 1`` degrees of freedom
+        of one repetition (every repetition reuses the same objects). More
+        objects narrow the intervals; repetitions little.
     baseline : bool, default=True
         Add the one-number baseline as ``"peak_change"``.
     roi : tuple (top, bottom, left, right) or None, default=None
@@ -427,15 +385,8 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         of the pipelines given by name (so a run repeats exactly; pass
         seeded estimators in a dict to control them yourself).
     verbose : int, default=1
-        Progress on stderr: a line naming the work (pipelines, folds,
-        presses, objects), then one line per finished fit with the fits
-        done, the time elapsed and an estimate of the rest (the style of
-        the experiment runner's progress, readable in a batch job's log
-        too). The estimate times each pipeline by its own finished fits,
-        as a net's fit can outlast the baseline's a thousandfold, and names
-        the pipelines it cannot time yet; the fits run fold by fold, so
-        every pipeline's first fit ends early.
-        ``0`` is silent.
+        Progress on stderr: a line naming the work, then one line per
+        finished fit with an estimate of the time left. ``0`` is silent.
 
     Returns
     -------
