@@ -122,7 +122,7 @@ class FrameScaler(TransformerMixin, BaseEstimator):
     Examples
     --------
     >>> import numpy as np
-    >>> from sklearn_hardness.models import FrameScaler
+    >>> from sklearn_hardness.models._pipelines import FrameScaler
     >>> X = np.random.default_rng(0).normal(0, 3, size=(4, 2, 6, 8, 1)).astype(np.float32)
     >>> scaler = FrameScaler().fit(X)
     >>> round(float(scaler.transform(X).std()), 3)
