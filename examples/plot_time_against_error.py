@@ -28,7 +28,7 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import peak_contact_change
+from sklearn_hardness.models import peak_contact_change
 from sklearn_hardness.models import ConvLSTMClassifier
 from sklearn_hardness.preprocessing import ContactFrameSelector
 

@@ -5,7 +5,7 @@ Objects the model has not seen: measure, then choose
 
 A user's own recordings are of objects no model was trained on, and the
 useful question is how well a pipeline ranks an object it has never
-touched. :func:`~sklearn_hardness.experiments.evaluate_pipelines` (the
+touched. :func:`~sklearn_hardness.model_selection.evaluate_pipelines` (the
 ``sklearn-hardness evaluate`` command) answers it with cross-validation
 whose folds keep every object's presses together, and runs the simplest
 baseline beside every pipeline: one number per press, the peak change of
@@ -33,7 +33,7 @@ import numpy as np
 from sklearn.utils import Bunch
 
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import evaluate_pipelines, format_evaluation, plot_confusion_matrices
+from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation, plot_confusion_matrices
 
 data = make_presses("everyday", image_size=(96, 128), random_state=0)
 data.videos = list(data.videos)  # the simulator renders a video each time it is read: render each once

@@ -16,6 +16,8 @@ active
     Uncertainty-based choice of the reference object to press next.
 metrics
     Hardness-aware metrics.
+model_selection
+    Object-disjoint evaluation of pipelines on new objects, with corrected intervals.
 experiments
     The paper's experiments as functions.
 """
@@ -32,6 +34,7 @@ _SUBMODULES = [
     "models",
     "active",
     "metrics",
+    "model_selection",
     "experiments",
     "utils",
 ]

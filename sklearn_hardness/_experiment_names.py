@@ -1,32 +1,13 @@
-"""Names and help texts of the experiments' configuration, importable without torch or scikit-learn.
+"""Help texts of the experiments' configuration, importable without torch or scikit-learn.
 
 The command line builds its parser and ``reproduce --help`` from them (in well
-under a second, without importing the library); :mod:`sklearn_hardness.experiments`
-re-exports :data:`MODEL_NAMES`, :data:`STRATEGIES` and :data:`QUICK_OVERRIDES`
-and writes
-:func:`~sklearn_hardness.experiments.get_config`'s docstring from :data:`KEY_HELP`.
+under a second, without importing the library), and
+:func:`~sklearn_hardness.experiments.get_config`'s docstring is written from
+:data:`KEY_HELP`. The models' names come from :mod:`sklearn_hardness._registry`.
 Nothing here may import anything beyond the standard library.
 """
 
-#: Classifiers selectable by name in the experiments (``model=...``, ``reproduce --model``).
-MODEL_NAMES = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn", "contact_profile", "contact_profile_3",
-               "loading_compliance")
-#: Named models that read ContactProfileFeatures of the whole video (no frame selection).
-CONTACT_PROFILE_MODELS = ("contact_profile_nn", "contact_profile", "contact_profile_3")
-#: The ContactProfileFeatures of ``"contact_profile_3"``: the video's readings of the depth, the loading
-#: time and the size of the contact (the quantities of the simulator's ideal reader of the gel).
-CONTACT_PROFILE_3_FEATURES = ("log_peak_change", "log_loading_time", "log_contact_spread")
-#: Named models that read each press's force and position, not its video.
-FORCE_POSITION_MODELS = ("loading_compliance",)
-#: Named models whose head is a logistic regression refitted per iteration (no epochs or dropout).
-LOGISTIC_MODELS = ("contact_profile", "contact_profile_3", "loading_compliance")
-
-#: Pipelines ``evaluate`` knows by name (``"peak_change"`` is the one-number baseline;
-#: ``"loading_compliance"`` reads each press's force and position, not its video).
-PIPELINE_NAMES = ("peak_change", "contact_profile", "contact_profile_3", "contact_profile_nn", "convlstm", "ofnn",
-                  "dinov2nn", "loading_compliance")
-#: What ``evaluate`` runs by default: the inputs that carry over to new objects on real recordings first.
-DEFAULT_PIPELINES = ("contact_profile", "contact_profile_nn", "convlstm", "ofnn")
+from ._registry import EXPERIMENT_MODELS
 
 #: The strategies compared by default (BALD is our addition to the paper's three).
 STRATEGIES = ("variance", "entropy", "random", "bald")
@@ -46,13 +27,10 @@ QUICK_OVERRIDES = {
 
 #: One line per configuration key: get_config's docstring and ``reproduce --help`` are made from it.
 KEY_HELP = {
-    "model": "classifier: convlstm (silicone5), ofnn or dinov2nn (shore9), contact_profile_nn "
-             "(ContactProfileFeatures of the whole video + an MC-dropout MLP, standardised per run) or "
-             "contact_profile (the same features + a logistic regression sampled from its Laplace "
-             "posterior; refitted at each iteration, epochs, lr, dropout and batch_size do not apply) or "
-             "contact_profile_3 (the same with three of the features: log_peak_change, log_loading_time, "
-             "log_contact_spread) or loading_compliance (each press's force and sensor position, no video: the "
-             "Hertz compliance + the same logistic regression; the dataset needs force and position)",
+    "model": f"classifier, a named pipeline among {', '.join(EXPERIMENT_MODELS)} (models.pipeline_info "
+             "says what each is; the presets: convlstm for silicone5, dinov2nn for shore9); the logistic heads "
+             "(contact_profile, contact_profile_3, loading_compliance) are refitted at each iteration: epochs, "
+             "lr, dropout and batch_size do not apply; loading_compliance needs each press's force and position",
     "n_initial": "s0: presses per reference object in the initial training set",
     "n_per_query": "s: presses of the queried object added per iteration",
     "n_iterations": "N: active-sampling iterations",
@@ -65,6 +43,8 @@ KEY_HELP = {
     "n_mc_samples": "n: MC-dropout passes per query",
     "n_ensemble": "0: MC dropout (the paper); k >= 2: an ensemble of k differently seeded nets",
     "dropout": "dropout rate (the paper: 0.2)",
+    "class_weight": "class weights of the classifier: None, the paper's unweighted loss (default), or "
+                    "'balanced', the ready-made pipelines' default for imbalanced classes",
     "lr": "learning rate",
     "batch_size": "training batch size (None: the model's, 8 ConvLSTM, 32 MLP heads)",
     "early_stopping": "k: training after the initial one stops when the loss has not improved for k "

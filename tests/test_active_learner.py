@@ -282,7 +282,7 @@ def test_concat_rows_kinds():
 
 
 def test_concat_rows_keeps_lazy_videos_lazy():
-    from sklearn_hardness.datasets import LazyVideoSequence
+    from sklearn_hardness.datasets._lazy import LazyVideoSequence
 
     loaded = []
 
@@ -515,7 +515,7 @@ def test_query_scores_the_presses_it_was_given(strategy, in_pipeline):
     scores and the choice differ."""
     from sklearn.preprocessing import FunctionTransformer
 
-    from sklearn_hardness.active import get_strategy
+    from sklearn_hardness.active._strategies import get_strategy
 
     X0 = np.repeat(np.eye(3) * 6.0, 2, axis=0)  # confident training presses
     y0 = np.repeat([0, 1, 2], 2)

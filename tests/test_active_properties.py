@@ -14,11 +14,11 @@ from hypothesis.extra import numpy as hnp
 from sklearn_hardness.active import (
     ActiveLearner,
     class_uncertainty,
-    get_strategy,
     margin_sampling,
     random_sampling,
     variance_decomposition,
 )
+from sklearn_hardness.active._strategies import get_strategy
 
 from ._active_net import CentroidMC
 

@@ -8,7 +8,6 @@ from sklearn_hardness.active import (
     bald_sampling,
     class_uncertainty,
     entropy_sampling,
-    get_strategy,
     margin_sampling,
     mc_variance_sampling,
     random_sampling,
@@ -16,6 +15,7 @@ from sklearn_hardness.active import (
     variance_decomposition,
     variance_sampling,
 )
+from sklearn_hardness.active._strategies import get_strategy
 
 from ._active_net import make_blobs, make_net
 

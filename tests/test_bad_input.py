@@ -16,12 +16,15 @@ import pytest
 from sklearn.exceptions import NotFittedError
 from sklearn.utils._param_validation import InvalidParameterError
 
-from sklearn_hardness.active import ActiveLearner, PressOracle, class_uncertainty, get_strategy
-from sklearn_hardness.datasets import LazyVideoSequence, load_press_videos, make_presses
+from sklearn_hardness.active import ActiveLearner, PressOracle, class_uncertainty
+from sklearn_hardness.active._strategies import get_strategy
+from sklearn_hardness.datasets import load_press_videos, make_presses
+from sklearn_hardness.datasets._lazy import LazyVideoSequence
 from sklearn_hardness.features import OpticalFlowFeatures
 from sklearn_hardness.io import read_video, write_video
 from sklearn_hardness.metrics import hardness_mae, make_hardness_mae_scorer
-from sklearn_hardness.models import ConvLSTMClassifier, FrameScaler, OFNNClassifier
+from sklearn_hardness.models import ConvLSTMClassifier, OFNNClassifier
+from sklearn_hardness.models._pipelines import FrameScaler
 from sklearn_hardness.preprocessing import ContactFrameSelector
 
 from ._synthetic import synthetic_press
@@ -351,7 +354,7 @@ def test_failed_experiment_leaves_results_file_intact(tmp_path, kwargs, fragment
 
 
 def test_results_file_with_a_bad_middle_line_is_not_rewritten(tmp_path):
-    from sklearn_hardness.experiments import ResultsStore
+    from sklearn_hardness.experiments._results import ResultsStore
 
     text = _RECORD + "not json\n" + _RECORD.replace('"seed": 0', '"seed": 1')
     results = tmp_path / "results.jsonl"
@@ -362,7 +365,7 @@ def test_results_file_with_a_bad_middle_line_is_not_rewritten(tmp_path):
 
 
 def test_results_record_with_a_malformed_key_names_the_line(tmp_path):
-    from sklearn_hardness.experiments import ResultsStore
+    from sklearn_hardness.experiments._results import ResultsStore
 
     results = tmp_path / "results.jsonl"
     text = _RECORD + '{"key": ["variance", 0]}\n'

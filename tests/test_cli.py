@@ -168,9 +168,10 @@ def test_names_offered_by_the_parser_are_the_library_s():
     from sklearn_hardness._cli import build_parser
     from sklearn_hardness._cli._common import _SIM_PRESETS
     from sklearn_hardness.datasets._sim_presets import PRESETS
-    from sklearn_hardness.experiments import MODEL_NAMES
+    from sklearn_hardness.experiments._models import MODEL_NAMES
     from sklearn_hardness.experiments._models import make_estimator
-    from sklearn_hardness.experiments._evaluate import _named_pipeline, evaluate_pipelines
+    from sklearn_hardness.model_selection._evaluate import evaluate_pipelines
+    from sklearn_hardness.models import make_named_pipeline
 
     def choices(command, dest):
         sub = next(a for a in build_parser()._actions if a.dest == "command").choices[command]
@@ -179,11 +180,13 @@ def test_names_offered_by_the_parser_are_the_library_s():
 
     assert set(_SIM_PRESETS) == set(PRESETS)
     pipelines, default = choices("evaluate", "pipelines")
-    assert all(_named_pipeline(name) is not None for name in pipelines)  # every name the parser offers builds
+    assert all(make_named_pipeline(name) is not None for name in pipelines)  # every name the parser offers builds
     with pytest.raises(ValueError, match="unknown pipeline"):
         evaluate_pipelines("everyday", ["not-a-pipeline"])
     assert default is None  # evaluate_pipelines' default: DEFAULT_PIPELINES, + loading_compliance with force
-    from sklearn_hardness._experiment_names import DEFAULT_PIPELINES
+    from sklearn_hardness._registry import DEFAULT_PIPELINES, PIPELINE_NAMES
+
+    assert pipelines == PIPELINE_NAMES
 
     assert set(DEFAULT_PIPELINES) <= set(pipelines) and "peak_change" not in DEFAULT_PIPELINES  # baseline: always
     for command in ("reproduce", "benchmark"):

@@ -23,9 +23,11 @@ Three families of checks run:
    matching the input. They run on every estimator with its own input.
 
 The video checks are public (:mod:`sklearn_hardness.utils.estimator_checks`),
-so users of our estimators can run them on theirs. Expected failures of
-family 3 are strict: once an estimator is fixed the test reports XPASS as a
-failure, so the table cannot silently go stale.
+so users of our estimators can run them on theirs. Every expected failure is
+strict (``xfail_strict = true`` in pyproject.toml, which scikit-learn's marks
+of family 1 take too; families 2 and 3 pass ``strict=True``): once an
+estimator is fixed the test reports XPASS as a failure, so the table cannot
+silently go stale.
 """
 
 from __future__ import annotations
@@ -49,11 +51,11 @@ from sklearn_hardness.models import (
     ConvLSTMClassifier,
     DINOv2NNClassifier,
     EnsembleClassifier,
-    FrameScaler,
-    IntensityChannels,
     LaplaceLogisticRegression,
     OFNNClassifier,
 )
+from sklearn_hardness.models._pipelines import FrameScaler
+from sklearn_hardness.models._intensity_channels import IntensityChannels
 from sklearn_hardness.preprocessing import ContactFrameSelector
 from sklearn_hardness.utils.estimator_checks import parametrize_with_video_checks
 
@@ -181,7 +183,8 @@ def _public_estimator_classes():
 
 def test_every_public_estimator_is_in_the_tables():
     public = set(_public_estimator_classes())
-    assert public - set(NOT_CHECKED) == set(ESTIMATORS), (
+    # the tables may check private estimators too (the pipelines' FrameScaler, IntensityChannels)
+    assert public - set(NOT_CHECKED) <= set(ESTIMATORS), (
         "add new public estimators to ESTIMATORS (or NOT_CHECKED with a reason)"
     )
     for name, failures in EXPECTED_FAILED_CHECKS.items():
@@ -300,3 +303,8 @@ def test_tags_match_the_input_table():
     """The ESTIMATORS table's input kinds and the estimators' own tags agree."""
     for name, (factory, kind) in ESTIMATORS.items():
         assert get_tags(factory()).input_tags.two_d_array == (kind == "table"), name
+
+
+def test_expected_failures_are_strict(pytestconfig):
+    """scikit-learn's xfail marks carry no strict= of their own: pyproject.toml's xfail_strict decides."""
+    assert pytestconfig.getini("xfail_strict") is True

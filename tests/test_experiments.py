@@ -6,12 +6,9 @@ import pytest
 from sklearn.utils import Bunch
 
 from sklearn_hardness.experiments import (
-    HUMAN_ACCURACY,
     ExperimentResult,
-    ResultsStore,
     baseline_table,
     comparison_table,
-    config_hash,
     format_table,
     get_config,
     run_active_sampling,
@@ -19,6 +16,9 @@ from sklearn_hardness.experiments import (
     run_model_baselines,
     save_figures,
 )
+from sklearn_hardness.experiments._tables import HUMAN_ACCURACY
+from sklearn_hardness.experiments._results import ResultsStore
+from sklearn_hardness.experiments._config import config_hash
 
 from ._exp_data import TINY, tiny_presses
 
@@ -265,7 +265,7 @@ def test_model_baselines_scale_inputs_on_each_run_s_training_presses(monkeypatch
     import sklearn_hardness.experiments._baselines as baselines
     from sklearn_hardness.experiments._data import prepare_inputs
     from sklearn_hardness.experiments._config import check_config, get_config
-    from sklearn_hardness.models import FrameScaler
+    from sklearn_hardness.models._pipelines import FrameScaler
 
     fitted = []
 
@@ -330,7 +330,8 @@ def test_custom_estimator_and_dinov2nn_preset():
 
 
 def test_device_key_reaches_the_named_models_and_keeps_old_hashes():
-    from sklearn_hardness.experiments import config_hash, get_config
+    from sklearn_hardness.experiments import get_config
+    from sklearn_hardness.experiments._config import config_hash
     from sklearn_hardness.experiments._models import make_estimator
 
     cfg = get_config("silicone5")
@@ -346,7 +347,8 @@ def test_device_key_reaches_the_named_models_and_keeps_old_hashes():
 
 
 def test_early_stopping_cuts_epochs_and_is_recorded():
-    from sklearn_hardness.experiments import config_hash, get_config, run_active_sampling
+    from sklearn_hardness.experiments import get_config, run_active_sampling
+    from sklearn_hardness.experiments._config import config_hash
 
     from ._exp_data import TINY, tiny_presses
 
@@ -370,7 +372,8 @@ def test_early_stopping_cuts_epochs_and_is_recorded():
 
 
 def test_frame_size_is_written_out_and_old_results_stay_resumable():
-    from sklearn_hardness.experiments import config_hash, get_config
+    from sklearn_hardness.experiments import get_config
+    from sklearn_hardness.experiments._config import config_hash
     from sklearn_hardness.experiments._config import check_config
 
     new = check_config(get_config("silicone5"))

@@ -6,7 +6,7 @@ import pytest
 
 from sklearn_hardness._cli import build_parser, main
 from sklearn_hardness._cli._reproduce import _reproduce_config_hash
-from sklearn_hardness.experiments import parse_provenance
+from sklearn_hardness.experiments._provenance import parse_provenance
 from sklearn_hardness.io import write_video
 
 from ._exp_data import tiny_presses, write_object_manifest

@@ -1,49 +1,37 @@
-"""The experiments' named models are the public factories' pipelines, taken apart."""
+"""The experiments' named models are the registry's named pipelines, taken apart."""
 
 import numpy as np
 import pytest
 
-from sklearn_hardness import models
-from sklearn_hardness._experiment_names import LOGISTIC_MODELS
-from sklearn_hardness.experiments import MODEL_NAMES, get_config
+from sklearn_hardness._registry import pipeline_info
+from sklearn_hardness.experiments import get_config
+from sklearn_hardness.experiments._models import MODEL_NAMES
 from sklearn_hardness.experiments._config import check_config
 from sklearn_hardness.experiments._data import _feature_params, _frame_params
-from sklearn_hardness.experiments._models import FACTORIES, make_estimator, model_pipeline
+from sklearn_hardness.experiments._models import make_estimator, model_pipeline
+from sklearn_hardness.models import make_named_pipeline
 
-FACTORY_OF = {"convlstm": models.make_convlstm_pipeline, "ofnn": models.make_ofnn_pipeline,
-              "dinov2nn": models.make_dinov2nn_pipeline, "contact_profile_nn": models.make_contact_profile_pipeline,
-              "contact_profile": models.make_contact_profile_pipeline,
-              "contact_profile_3": models.make_contact_profile_pipeline,
-              "loading_compliance": models.make_loading_compliance_pipeline}
 THREE = ["log_peak_change", "log_loading_time", "log_contact_spread"]
-#: The factory arguments that make a named model (its head; the default head otherwise).
-HEAD_OF = {"contact_profile": {"head": "logistic"}, "contact_profile_nn": {"head": "nn"},
-           "contact_profile_3": {"head": "logistic", "features": THREE}}
-
-
-def test_every_named_model_has_its_factory():
-    assert set(FACTORIES) == set(MODEL_NAMES)
-    assert FACTORIES == FACTORY_OF
 
 
 @pytest.mark.parametrize("name", MODEL_NAMES)
-def test_the_run_s_net_is_the_factory_s_classifier(name):
+def test_the_run_s_net_is_the_named_pipeline_s_classifier(name):
     cfg = check_config(get_config("silicone5", model=name))
     net = make_estimator(name, cfg, seed=3, n_classes=5)
-    clf = FACTORY_OF[name](**HEAD_OF.get(name, {})).named_steps["clf"]
+    clf = make_named_pipeline(name).named_steps["clf"]
     assert type(net) is type(clf)
-    # what a run sets (the paper's settings, its seed and classes) on top of the factory's net
+    # what a run sets (the paper's settings, its seed and classes) on top of the named pipeline's net
     run_params = {"dropout", "lr", "random_state", "classes", "max_epochs", "device", "batch_size",
                   "dropout_placement", "callbacks", "class_weight"}
     theirs, ours = clf.get_params(deep=False), net.get_params(deep=False)
     assert {k: v for k, v in ours.items() if k not in run_params} == \
         {k: v for k, v in theirs.items() if k not in run_params}
     assert net.random_state == 3 and net.class_weight is None  # the paper's unweighted loss
-    if name not in LOGISTIC_MODELS:  # a logistic regression learns its classes
+    if pipeline_info(name).random:  # a net; a logistic regression learns its classes
         np.testing.assert_array_equal(net.classes, np.arange(5))
 
 
-def test_frame_and_feature_steps_come_from_the_factories():
+def test_frame_and_feature_steps_come_from_the_named_pipelines():
     # the values of the inputs cached before the factories built them: cached frames stay valid
     expected = {"convlstm": ((12, 16), "gray", True), "ofnn": ((120, 160), "gray", False),
                 "dinov2nn": ((112, 150), "rgb", True)}

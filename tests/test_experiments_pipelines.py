@@ -3,7 +3,8 @@ import pytest
 from sklearn.base import clone
 
 from sklearn_hardness.active import ActiveLearner
-from sklearn_hardness.models import FrameScaler, make_convlstm_pipeline, make_ofnn_pipeline
+from sklearn_hardness.models import make_convlstm_pipeline, make_ofnn_pipeline
+from sklearn_hardness.models._pipelines import FrameScaler
 
 from ._exp_data import tiny_presses
 

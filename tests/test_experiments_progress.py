@@ -5,13 +5,13 @@ import re
 import types
 
 from sklearn_hardness.experiments import run_active_sampling
-from sklearn_hardness.experiments._runner import ProgressLog
+from sklearn_hardness.utils._progress import ProgressLog
 
 from ._exp_data import TINY, tiny_presses
 
 
 def test_progress_log_lines_and_estimate(monkeypatch):
-    import sklearn_hardness.experiments._runner as runner
+    import sklearn_hardness.utils._progress as runner
 
     clock = iter([0.0, 10.0, 20.0, 0.0])
     monkeypatch.setattr(runner, "time", types.SimpleNamespace(perf_counter=lambda: next(clock)))

@@ -95,7 +95,7 @@ def test_signal_stops_the_workers_and_keeps_the_results(tmp_path, signum):
 
     import psutil
 
-    from sklearn_hardness.experiments import ResultsStore
+    from sklearn_hardness.experiments._results import ResultsStore
     from sklearn_hardness.io import write_video
 
     data = tiny_presses()

@@ -142,7 +142,7 @@ def _stop_record(predictions, test_class=1, per_query=5, n_initial=25):
 
 
 def test_decision_stop_counts_presses_to_a_settled_decision():
-    from sklearn_hardness.experiments import decision_stop
+    from sklearn_hardness.experiments._stats import decision_stop
 
     rec = _stop_record([[0, 0, 1, 2, 0], [1, 1, 1, 0, 1], [1, 1, 1, 1, 1], [1, 1, 1, 1, 1], [2, 2, 2, 2, 2]])
     # 4 of 5 agree on class 1 at t=1 and t=2: settled at t=2 after two queries of 5 presses

@@ -111,7 +111,7 @@ def test_write_rejects_bad_input(tmp_path, frames):
     with pytest.raises(ValueError, match="NaN"):
         bad = frames.astype(np.float32)
         bad[0, 0, 0, 0] = np.nan
-        from sklearn_hardness.utils import check_video
+        from sklearn_hardness.utils._validation import check_video
 
         check_video(bad)
     assert not os.path.exists(tmp_path / "p.avi")

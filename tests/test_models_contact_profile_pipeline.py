@@ -11,7 +11,8 @@ from sklearn.base import clone
 from sklearn.linear_model import LogisticRegression
 from sklearn.model_selection import StratifiedKFold, cross_val_score
 
-from sklearn_hardness.experiments import evaluate_pipelines, format_evaluation, make_peak_change_baseline
+from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation
+from sklearn_hardness.models import make_peak_change_baseline
 from sklearn_hardness.models import (
     ContactProfileNNClassifier,
     LaplaceLogisticRegression,

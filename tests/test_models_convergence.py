@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from sklearn.exceptions import ConvergenceWarning
 
-from sklearn_hardness.models import OFNNClassifier, check_convergence, is_converged
+from sklearn_hardness.models import OFNNClassifier, is_converged
+from sklearn_hardness.models._convergence import check_convergence
 
 
 def test_rule_on_values():
@@ -44,7 +45,7 @@ def test_rule_rejects_unfitted():
 
 
 def test_chance_scaled_threshold_keeps_the_papers_fraction_of_chance_loss():
-    from sklearn_hardness.models import chance_scaled_threshold
+    from sklearn_hardness.models._convergence import chance_scaled_threshold
 
     assert chance_scaled_threshold(5) == 1.0  # exactly the paper's rule at its 5 classes
     assert chance_scaled_threshold(9) == pytest.approx(np.log(9) / np.log(5))

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 import torch
 
-from sklearn_hardness.models import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
+from sklearn_hardness.models import ConvLSTMClassifier
+from sklearn_hardness.models._convlstm import ConvLSTMLayer, ConvLSTMNet
 from tests._threads import torch_threads
 
 

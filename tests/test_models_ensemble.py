@@ -7,7 +7,8 @@ from sklearn.datasets import make_blobs
 from sklearn.exceptions import NotFittedError
 
 from sklearn_hardness.active import ActiveLearner, PressOracle, class_uncertainty
-from sklearn_hardness.experiments import config_hash, get_config, run_active_sampling
+from sklearn_hardness.experiments import get_config, run_active_sampling
+from sklearn_hardness.experiments._config import config_hash
 from sklearn_hardness.models import EnsembleClassifier, OFNNClassifier
 
 from ._exp_data import TINY, tiny_presses

@@ -9,12 +9,8 @@ from sklearn.base import clone
 from sklearn.exceptions import NotFittedError
 from sklearn.utils._param_validation import InvalidParameterError
 
-from sklearn_hardness.models import (
-    ConvLSTMClassifier,
-    DINOv2NNClassifier,
-    MCDropout,
-    OFNNClassifier,
-)
+from sklearn_hardness.models import ConvLSTMClassifier, DINOv2NNClassifier, OFNNClassifier
+from sklearn_hardness.models._mc_sampling import MCDropout
 from tests._threads import torch_threads
 
 

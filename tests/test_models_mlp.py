@@ -6,7 +6,8 @@ import torch
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
-from sklearn_hardness.models import DINOv2NNClassifier, MLPHead, OFNNClassifier
+from sklearn_hardness.models import DINOv2NNClassifier, OFNNClassifier
+from sklearn_hardness.models._mlp import MLPHead
 
 
 pytestmark = pytest.mark.torch_threads(1)

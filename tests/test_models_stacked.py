@@ -7,7 +7,10 @@ import numpy as np
 import pytest
 import torch
 
-from sklearn_hardness.models import ConvLSTMNet, MCDropout, MLPHead, StackedConvLSTMNet
+from sklearn_hardness.models._convlstm import ConvLSTMNet
+from sklearn_hardness.models._mc_sampling import MCDropout
+from sklearn_hardness.models._mlp import MLPHead
+from sklearn_hardness.models._stacked import StackedConvLSTMNet
 from sklearn_hardness.utils._torch import seeded_torch_rng
 
 K = 3

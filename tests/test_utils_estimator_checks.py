@@ -5,7 +5,7 @@ import pytest
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from sklearn_hardness.models import FrameScaler
+from sklearn_hardness.models._pipelines import FrameScaler
 from sklearn_hardness.utils._tags import frames_tags
 from sklearn_hardness.utils.estimator_checks import (
     VIDEO_CHECKS,

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .._experiment_names import MODEL_NAMES
+from .._registry import EXPERIMENT_MODELS
 from ._common import _add_quiet, _parse_set, _positive_int, _user_errors
 
 def _add_benchmark(sub):
@@ -15,7 +15,7 @@ def _add_benchmark(sub):
     )
     p.add_argument("--preset", default="silicone5", choices=["silicone5", "shore9"],
                    help="the paper's setup whose presses and hyperparameters are used (default silicone5)")
-    p.add_argument("--model", default=None, choices=MODEL_NAMES,
+    p.add_argument("--model", default=None, choices=EXPERIMENT_MODELS,
                    help="classifier (default: the preset's)")
     p.add_argument("--strategy", default="variance",
                    help="query strategy: variance (default), entropy, random or bald")

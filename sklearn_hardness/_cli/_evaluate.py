@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import argparse
 import os
 import sys
 
-from .._experiment_names import DEFAULT_PIPELINES, PIPELINE_NAMES
+from .._registry import DEFAULT_PIPELINES, PIPELINE_NAMES, pipeline_info
 from ._common import (
     _SIM_PRESETS,
     _add_quiet,
@@ -20,6 +21,13 @@ from ._common import (
     _user_errors,
 )
 
+def _pipelines_epilog():
+    """The pipelines' names with their one-line summaries, from the registry."""
+    width = max(map(len, PIPELINE_NAMES))
+    return "pipelines (sklearn_hardness.models.pipeline_names):\n" + "\n".join(
+        f"  {name:<{width}}  {pipeline_info(name).summary}" for name in PIPELINE_NAMES)
+
+
 def _add_evaluate(sub):
     p = sub.add_parser(
         "evaluate",
@@ -30,6 +38,8 @@ def _add_evaluate(sub):
         "each pipeline's margin over it paired by fold, name the pipeline to choose (the best one "
         "whose margin's 95% interval lies above 0; and the best with predict_proba_samples, for "
         "active sampling) or say that none beats the one number, and save a confusion-matrix figure.",
+        epilog=_pipelines_epilog(),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("dataset", help="a manifest.csv (or its folder), or a simulator preset "
                    f"({', '.join(_SIM_PRESETS)})")
@@ -58,13 +68,8 @@ def _run_evaluate(args):
 
     import numpy as np
 
-    from ..experiments import (
-        evaluate_pipelines,
-        format_evaluation,
-        parse_provenance,
-        plot_confusion_matrices,
-        provenance_header,
-    )
+    from ..experiments._provenance import parse_provenance, provenance_header
+    from ..model_selection import evaluate_pipelines, format_evaluation, plot_confusion_matrices
     from ..utils._validation import check_roi
 
     _check_out_dir(args.out)

@@ -8,7 +8,7 @@ import os
 import sys
 import textwrap
 
-from .._experiment_names import LOGISTIC_MODELS, MODEL_NAMES
+from .._registry import EXPERIMENT_MODELS, pipeline_info
 from ._common import (
     _SIM_PRESETS,
     _add_quiet,
@@ -48,7 +48,14 @@ def _config_keys_epilog():
 
 _README_START = "<!-- reproduce-quick-table: start -->"
 _README_END = "<!-- reproduce-quick-table: end -->"
-_README_PROVENANCE = ("command", "config_hash", "code_fingerprint")
+_README_PROVENANCE = ("command", "commit", "date")
+
+
+def _readme_provenance(record):
+    """The README block's header: command, commit, date and the machine with its matrix-product rate."""
+    machine = record["machine"]
+    return {**{k: record[k] for k in _README_PROVENANCE},
+            "machine": f"{machine['cpu']}, {machine['cores']} cores, matmul {machine['matmul_gflops']} GFLOP/s"}
 
 
 def _readme_block(path):
@@ -67,9 +74,8 @@ def _readme_block(path):
 def _write_readme_table(path, table, provenance=None):
     """Replace the block between the README markers by ``table`` (in a code fence).
 
-    ``provenance`` (a dict: command, config hash, code fingerprint) goes on an HTML
-    comment line above the fence; machine and date stay out, so rerunning unchanged
-    code with the same table leaves the file alone.
+    ``provenance`` (a dict: command, commit, date, machine) goes on an HTML comment
+    line above the fence: what made the table, not a check of it.
     """
     text, start, end = _readme_block(path)
     comment = f"\n<!-- provenance {json.dumps(provenance)} -->" if provenance else ""
@@ -101,7 +107,7 @@ def _add_reproduce(sub):
                    help="manifest CSV of real recordings (see load_press_videos; with an object_id "
                    "column and several objects per class the runs are object-disjoint) or 'everyday' "
                    "(simulated everyday objects); default: the simulator with the preset's objects")
-    p.add_argument("--model", default=None, choices=MODEL_NAMES,
+    p.add_argument("--model", default=None, choices=EXPERIMENT_MODELS,
                    help="classifier (default: the preset's)")
     p.add_argument("--dinov2-model", default=None,
                    help="DINOv2 weights for dinov2nn: a Hugging Face id in the local cache or a local "
@@ -158,7 +164,7 @@ def _reproduce_config(args):
     """The configuration overrides of ``reproduce``, every input checked before anything is written."""
     from ..active._strategies import check_strategies
     from ..datasets import load_press_videos
-    from ..experiments import STRATEGIES
+    from ..experiments._active import STRATEGIES
     from ..experiments._config import check_config, get_config
     from ..experiments._data import load_dataset
 
@@ -200,7 +206,7 @@ def _reproduce_config(args):
 
 def _reproduce_config_hash(args):
     """The config hash of a ``reproduce --protocol active`` command (None for the whole protocol)."""
-    from ..experiments import planned_config_hash
+    from ..experiments._active import planned_config_hash
 
     if args.protocol != "active":
         return None
@@ -219,12 +225,11 @@ def _run_reproduce(args):
         format_presses_to_reach,
         format_table,
         paired_table,
-        parse_provenance,
         presses_to_reach,
-        provenance_header,
         run_active_sampling,
         save_figures,
     )
+    from ..experiments._provenance import parse_provenance, provenance_header
 
     config = _reproduce_config(args)
     if args.protocol == "paper":
@@ -254,7 +259,8 @@ def _run_reproduce(args):
     rows = comparison_table(result)
     n_it = cfg["n_iterations"]
     table = format_table(rows, mae_unit=cfg.get("hardness_unit"))
-    if cfg["model"] in LOGISTIC_MODELS:  # a logistic regression refitted per iteration
+    if cfg["model"] in EXPERIMENT_MODELS and not pipeline_info(cfg["model"]).random:  # a logistic regression
+        # refitted per iteration
         training = (f"M={cfg['max_reservoir']}, refitted per iteration, n_test={cfg['n_test']}, "
                     f"Laplace posterior samples={cfg['n_mc_samples']}")
     else:
@@ -298,8 +304,7 @@ def _run_reproduce(args):
         with open(os.path.join(args.out, "paired.txt"), "w") as f:
             f.write(provenance + "\n" + header + "\n" + paired + "\n")
     if args.readme:
-        record = parse_provenance(provenance)
-        changed = _write_readme_table(args.readme, table, {k: record[k] for k in _README_PROVENANCE})
+        changed = _write_readme_table(args.readme, table, _readme_provenance(parse_provenance(provenance)))
         print(f"{'updated' if changed else 'unchanged'}: the table in {args.readme}")
     with open(os.path.join(args.out, "config.json"), "w") as f:
         json.dump({k: v for k, v in cfg.items()}, f, indent=2, default=repr)

@@ -24,21 +24,19 @@ from ._oracle import PressOracle
 from ._strategies import (
     bald_sampling,
     entropy_sampling,
-    get_strategy,
     margin_sampling,
     mc_variance_sampling,
     random_sampling,
     thompson_sampling,
     variance_sampling,
 )
-from ._uncertainty import UNCERTAINTY_KINDS, class_uncertainty, variance_decomposition
+from ._uncertainty import class_uncertainty, variance_decomposition
 
 __all__ = [
     "ActiveLearner",
     "PressOracle",
     "class_uncertainty",
     "variance_decomposition",
-    "UNCERTAINTY_KINDS",
     "entropy_sampling",
     "variance_sampling",
     "bald_sampling",
@@ -46,6 +44,5 @@ __all__ = [
     "mc_variance_sampling",
     "thompson_sampling",
     "random_sampling",
-    "get_strategy",
     "as_modal_strategy",
 ]

@@ -27,7 +27,8 @@ from sklearn.utils._param_validation import (
 )
 from sklearn.utils.validation import check_is_fitted
 
-from ..models import EnsembleClassifier, MCDropoutClassifierBase
+from ..models import EnsembleClassifier
+from ..models._mc_dropout import MCDropoutClassifierBase
 from ..utils._random import int_seed
 from ..utils._torch import seeded_torch_rng
 from ._rows import concat_rows, n_rows, training_subset

@@ -481,7 +481,7 @@ def get_strategy(strategy):
 
     Examples
     --------
-    >>> from sklearn_hardness.active import get_strategy
+    >>> from sklearn_hardness.active._strategies import get_strategy
     >>> get_strategy("variance").__name__
     'variance_sampling'
     """

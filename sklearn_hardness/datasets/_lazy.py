@@ -36,7 +36,7 @@ class LazyVideoSequence(Sequence):
     Examples
     --------
     >>> import numpy as np
-    >>> from sklearn_hardness.datasets import LazyVideoSequence
+    >>> from sklearn_hardness.datasets._lazy import LazyVideoSequence
     >>> videos = LazyVideoSequence(lambda k: np.full((3, 4, 4, 3), k, np.uint8), [1, 2, 3])
     >>> len(videos), int(videos[1][0, 0, 0, 0]), len(videos[[0, 2]])
     (3, 2, 2)

@@ -126,7 +126,7 @@ def planned_config_hash(dataset="silicone5", *, preset=None, model=None, n_runs=
 
     Examples
     --------
-    >>> from sklearn_hardness.experiments import planned_config_hash
+    >>> from sklearn_hardness.experiments._active import planned_config_hash
     >>> len(planned_config_hash("silicone5", quick=True))
     12
     """

@@ -13,7 +13,8 @@ from ..utils._random import derived_seeds
 from ._config import config_hash, default_preset, get_config, resolve_convergence_threshold, run_config
 from ._data import prepare_inputs
 from ._models import input_scaler, make_estimator
-from ._evaluate import _named_pipeline, evaluate_pipelines
+from .._registry import make_named_pipeline
+from ..model_selection import evaluate_pipelines
 from ._results import ExperimentResult, ResultsStore
 from ._runner import run_tasks
 
@@ -131,7 +132,7 @@ def run_model_baselines(
             models = (models,)
         pipes = {m: m for m in models} if all(isinstance(m, str) for m in models) else None
         if pipes is not None:
-            pipes = {m: _named_pipeline(m) for m in models}
+            pipes = {m: make_named_pipeline(m) for m in models}
         else:
             pipes = {str(n): e for n, e in models}
         if isinstance(dataset, str) and preset is not None and dataset == preset:

@@ -18,20 +18,25 @@ import numbers
 import numpy as np
 from sklearn.utils._param_validation import Interval, StrOptions, validate_parameter_constraints
 
-from .._experiment_names import CONTACT_PROFILE_MODELS as _CONTACT_PROFILE_MODELS
-from .._experiment_names import FORCE_POSITION_MODELS as _FORCE_POSITION_MODELS
 from .._experiment_names import KEY_HELP as _KEY_HELP
-from .._experiment_names import LOGISTIC_MODELS as _LOGISTIC_MODELS
-from .._experiment_names import MODEL_NAMES, QUICK_OVERRIDES
-from ..models import chance_scaled_threshold
+from .._experiment_names import QUICK_OVERRIDES
+from .._registry import pipeline_info
+from ..models._convergence import chance_scaled_threshold
 from ..utils._param_validation import FRAME_SIZE
-from ._models import default_frame_size, describe_model
+from ._models import MODEL_NAMES, default_frame_size, describe_model, selects_frames
 from ._models import input_name as _input_name
 
 __all__ = ["PRESET_CONFIGS", "QUICK_OVERRIDES", "MODEL_NAMES", "get_config", "config_hash"]
 
-#: Named models that select no contact frames (no frame_size, color or crop_contact).
-_NO_FRAME_MODELS = _CONTACT_PROFILE_MODELS + _FORCE_POSITION_MODELS
+
+def _selects_no_frames(model):
+    """Whether ``model`` is a named model that selects no contact frames (no frame_size, color or crop_contact)."""
+    return isinstance(model, str) and model in MODEL_NAMES and not selects_frames(model)
+
+
+def _is_logistic(model):
+    """Whether ``model`` is a named model with a logistic head (nothing random: no epochs, dropout, ensembles)."""
+    return isinstance(model, str) and model in MODEL_NAMES and not pipeline_info(model).random
 
 _COMMON = {
     "n_initial": 5,  # s0
@@ -73,6 +78,9 @@ _COMMON = {
     # None: whole frames. f in (0, 1): each press cut to a window of f x the frame's height
     # and width centred on its contact before resizing to frame_size (ContactFrameSelector)
     "crop_contact": None,
+    # the classifiers' class weights: None, the paper's unweighted loss (its classes have equal
+    # counts); "balanced" is the pipelines' default for a user's own, imbalanced objects
+    "class_weight": None,
 }
 
 #: Defaults per preset (Sec. III-C of the paper).
@@ -137,7 +145,7 @@ def get_config(preset="silicone5", *, quick=False, **overrides):
         raise ValueError(f"unknown preset {preset!r}; choose one of {sorted(PRESET_CONFIGS)}.")
     cfg = copy.deepcopy(PRESET_CONFIGS[preset])
     if quick:  # its frame size is the ConvLSTM's; models that select no frames keep None
-        no_frames = overrides.get("model") in _NO_FRAME_MODELS
+        no_frames = _selects_no_frames(overrides.get("model"))
         cfg.update({k: v for k, v in QUICK_OVERRIDES.items() if not (k == "frame_size" and no_frames)})
     unknown = sorted(set(overrides) - _KNOWN_KEYS)
     if unknown:
@@ -196,6 +204,7 @@ _CONFIG_CONSTRAINTS = {
     "early_stopping": [*_ints_from(1), None],
     "crop_contact": [Interval(numbers.Real, 0.0, 1.0, closed="neither"), None],
     "frame_size": [None, FRAME_SIZE],
+    "class_weight": [StrOptions({"balanced"}), dict, None],
 }
 
 
@@ -209,15 +218,15 @@ def check_config(cfg):
             f"dropout_placement={cfg['dropout_placement']!r} applies to the ConvLSTM only, but the model is "
             f"{cfg.get('model')!r}; leave it at 'head' or use model='convlstm'."
         )
-    if cfg.get("model") in _NO_FRAME_MODELS and any(
+    if _selects_no_frames(cfg.get("model")) and any(
             cfg.get(k) is not None for k in ("frame_size", "color", "crop_contact")):
-        reads = ("ContactProfileFeatures read the whole video" if cfg["model"] in _CONTACT_PROFILE_MODELS
+        reads = ("ContactProfileFeatures read the whole video" if pipeline_info(cfg["model"]).input == "video"
                  else "it reads each press's force and position, not its frames")
         raise ValueError(
             f"frame_size, color and crop_contact select contact frames, which {cfg['model']} does not "
             f"use ({reads}); leave them at None."
         )
-    if cfg.get("model") in _LOGISTIC_MODELS and cfg["n_ensemble"]:
+    if _is_logistic(cfg.get("model")) and cfg["n_ensemble"]:
         raise ValueError(
             f"n_ensemble applies to the nets; {cfg['model']}'s samples come from the Laplace posterior of "
             "its logistic regression. Leave n_ensemble at 0."
@@ -274,7 +283,7 @@ def _jsonable(value):
 #: Keys added after results files existed, with the value that means "as before": hashed
 #: only when set to something else, so earlier results files stay resumable.
 _LATER_KEYS = {"n_ensemble": 0, "device": "cpu", "early_stopping": None, "crop_contact": None,
-               "dropout_placement": "head"}
+               "dropout_placement": "head", "class_weight": None}
 
 
 #: The frame size ``frame_size=None`` meant in the hash, per :func:`_input_name` (before

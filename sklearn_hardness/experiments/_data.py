@@ -28,7 +28,7 @@ from ..preprocessing import ContactFrameSelector
 from ..utils._validation import rename_videos
 from ..utils._warnings import external_stacklevel
 from ._config import MODEL_NAMES
-from ._force_position import force_position
+from ..model_selection._force_position import force_position
 from ._models import feature_params as _feature_params
 from ._models import frame_params as _frame_params
 

@@ -1,13 +1,16 @@
-"""The experiments' named models, built by the public ``make_*_pipeline`` factories.
+"""The experiments' named models, built from the registry of named pipelines.
 
-One place decides what a model named ``"convlstm"``, ``"ofnn"``, ``"dinov2nn"``,
-``"contact_profile_nn"``, ``"contact_profile"``, ``"contact_profile_3"`` or ``"loading_compliance"``
-is: its factory in :mod:`sklearn_hardness.models`.
-The experiments take the factory's pipeline apart: its ``"frames"`` step
+A name means the model :func:`sklearn_hardness.models.make_named_pipeline`
+builds under it (:mod:`sklearn_hardness._registry`); the experiments add the
+run's settings, each a documented configuration key (:func:`~._config.get_config`):
+``class_weight`` (None, the paper's unweighted loss, by default), the frames'
+``n_between``, ``frame_size``, ``color`` and ``crop_contact``, ``dinov2_model``,
+and the classifier's training settings (``dropout``, ``lr``, epochs, ``device``,
+...). Each run's classifier carries the run's seed.
+The experiments take the pipeline apart: its ``"frames"`` step
 (contact-frame selection) and its frozen ``"features"`` step run once per
 dataset (:mod:`._data` caches them), and its ``"clf"`` step is the net each
-run trains. What the experiments choose differently from a user's default is
-written here, with the reason: they reproduce the paper (:data:`PAPER_CHOICES`).
+run trains.
 """
 
 from __future__ import annotations
@@ -18,70 +21,58 @@ import numpy as np
 from sklearn.base import BaseEstimator, clone
 from sklearn.pipeline import Pipeline
 
-from .._experiment_names import (CONTACT_PROFILE_3_FEATURES, CONTACT_PROFILE_MODELS, FORCE_POSITION_MODELS,
-                                 LOGISTIC_MODELS, MODEL_NAMES)
+from .._registry import EXPERIMENT_MODELS, builder, make_named_pipeline, pipeline_info
 from .. import models
-from ..models import EarlyStoppingAfterFirstFit
+from ..features import ContactProfileFeatures, DINOv2Features, LoadingCompliance, OpticalFlowFeatures
+from ..models._callbacks import EarlyStoppingAfterFirstFit
+from ..models._pipelines import FrameScaler
 from ..utils._random import set_random_states
 
-#: Factory of each named model.
-FACTORIES = {
-    "convlstm": models.make_convlstm_pipeline,
-    "ofnn": models.make_ofnn_pipeline,
-    "dinov2nn": models.make_dinov2nn_pipeline,
-    "contact_profile_nn": models.make_contact_profile_pipeline,
-    "contact_profile": models.make_contact_profile_pipeline,
-    "contact_profile_3": models.make_contact_profile_pipeline,
-    "loading_compliance": models.make_loading_compliance_pipeline,
-}
+MODEL_NAMES = EXPERIMENT_MODELS
 
-#: What a named model is beyond its factory's defaults (before the experiments' choices below).
-NAMED_CHOICES = {"contact_profile_3": {"features": CONTACT_PROFILE_3_FEATURES}}
-
-#: Where the experiments depart from the factories' defaults (which are for a user's own,
-#: unseen objects): the paper's inputs and its unweighted loss. The ConvLSTM gets the frames
-#: alone and OFNN the flattened corner tracks, as in the paper; the nets weigh every class
-#: alike (its classes have equal counts). The frame sizes are the factories': 12x16 grey
-#: frames for the ConvLSTM (on the front of time against error of
-#: ``benchmarks/bench_time_error.py``: half the time of 18x24 per run, no higher error),
-#: 120x160 raw (not differenced) frames for optical flow, which tracks the gel's markers
-#: (on simulated silicone5, 5 train presses per object, 5 seeds, OFNN reached 33.8% +- 2.9%
-#: on raw frames and 21.5% +- 1.1%, chance, on differences to the first frame), 112x150 RGB
-#: for DINOv2, and none for the contact profile, whose features read the whole video.
-PAPER_CHOICES = {
-    "convlstm": {"intensity_channels": False, "class_weight": None},
-    "ofnn": {"flow_output": "tracks", "class_weight": None},
-    "dinov2nn": {},
-    "contact_profile_nn": {"head": "nn", "class_weight": None},
-    "contact_profile": {"head": "logistic", "class_weight": None},
-    "contact_profile_3": {"head": "logistic", "class_weight": None},
-    "loading_compliance": {"class_weight": None},
-}
+#: The builders' arguments that the configuration sets (builder argument -> configuration key),
+#: where a builder takes them.
+_CONFIG_ARGUMENTS = {"n_between": "n_between", "frame_size": "frame_size", "model": "dinov2_model"}
 
 
 def input_name(model):
     """The named model whose input a model gets: its own if named, the ConvLSTM's for any estimator."""
-    return model if isinstance(model, str) and model in FACTORIES else "convlstm"
+    return model if isinstance(model, str) and model in EXPERIMENT_MODELS else "convlstm"
+
+
+def _builder_parameters(name):
+    return inspect.signature(builder(name)[0]).parameters
+
+
+def selects_frames(name):
+    """Whether the named model's pipeline starts with contact-frame selection (its builder takes ``n_between``)."""
+    return "n_between" in _builder_parameters(name)
 
 
 def default_frame_size(model):
-    """The frame size of the model's factory (None where it selects no frames)."""
-    parameter = inspect.signature(FACTORIES[input_name(model)]).parameters.get("frame_size")
+    """The frame size of the model's builder (None where it selects no frames)."""
+    parameter = _builder_parameters(input_name(model)).get("frame_size")
     return None if parameter is None else tuple(parameter.default)
 
 
-def model_pipeline(name, cfg, **classifier_params):
-    """The factory's pipeline of a named model, with the experiments' choices and ``cfg``'s input settings."""
-    kwargs = {**NAMED_CHOICES.get(name, {}), **PAPER_CHOICES[name], **classifier_params}
-    if name in CONTACT_PROFILE_MODELS:
-        kwargs["max_side"] = 80
-    elif name not in FORCE_POSITION_MODELS:
-        kwargs["n_between"] = int(cfg["n_between"])
-        if cfg.get("frame_size") is not None:
-            kwargs["frame_size"] = tuple(int(s) for s in cfg["frame_size"])
-    if name == "dinov2nn":
-        kwargs["model"] = cfg["dinov2_model"]
-    pipe = FACTORIES[name](**kwargs)
+def model_pipeline(name, cfg, random_state=None, **classifier_params):
+    """The registry's pipeline of a named model with ``cfg``'s settings of the run.
+
+    ``classifier_params`` go to the builder (its classifier), after ``cfg``'s
+    ``class_weight``. ``random_state`` seeds the classifier, also where its
+    fit has nothing random (a logistic regression): every run's classifier
+    carries its seed.
+    """
+    parameters = _builder_parameters(name)
+    params = {"class_weight": cfg.get("class_weight"), **classifier_params}
+    for argument, key in _CONFIG_ARGUMENTS.items():
+        if argument in parameters and cfg.get(key) is not None:
+            value = cfg[key]
+            params[argument] = (tuple(int(s) for s in value) if argument == "frame_size"
+                                else int(value) if argument == "n_between" else value)
+    pipe = make_named_pipeline(name, random_state=random_state, **params)
+    if random_state is not None and not pipeline_info(name).random:
+        pipe.set_params(clf__random_state=random_state)
     if "frames" in pipe.named_steps:
         if cfg.get("color") is not None:
             pipe.set_params(frames__color=cfg["color"])
@@ -124,13 +115,15 @@ def input_scaler(model, cfg):
     :func:`~._run._initial_state`); ``cfg["input_scale"] = None`` leaves the
     ConvLSTM's frames raw. Estimators passed by the user scale their own input.
     """
-    if not isinstance(model, str) or (model == "convlstm" and cfg.get("input_scale") is None):
+    if not isinstance(model, str):
         return None
     pipe = model_pipeline(model, cfg)
     if "impute" in pipe.named_steps:
         return clone(Pipeline([(name, pipe.named_steps[name]) for name in ("impute", "scale")]))
     step = pipe.named_steps.get("scale")
-    return None if step is None else clone(step)
+    if step is None or (isinstance(step, FrameScaler) and cfg.get("input_scale") is None):
+        return None
+    return clone(step)
 
 
 def feature_params(cfg, model):
@@ -138,25 +131,30 @@ def feature_params(cfg, model):
     if not isinstance(model, str):
         return None
     step = model_pipeline(model, cfg).named_steps.get("features")
-    if model == "ofnn":
+    if isinstance(step, OpticalFlowFeatures):
+        # the cache computes the transformer's default output, the flattened tracks of "ofnn"
         return {"kind": "optical_flow", "n_features": int(step.n_features)}
-    if model == "dinov2nn":
+    if isinstance(step, DINOv2Features):
         return {"kind": "dinov2", "model": step.model}
-    if model in CONTACT_PROFILE_MODELS:
+    if isinstance(step, ContactProfileFeatures):
         params = {"kind": "contact_profile", "max_side": int(step.max_side)}
         if step.features != "all":  # the key of all twelve stays that of the inputs cached before features=
             params["features"] = list(step.features)
         return params
-    if model in FORCE_POSITION_MODELS:
+    if isinstance(step, LoadingCompliance):
         return {"kind": "loading_compliance", "features": list(step.features), "onset": float(step.onset),
                 "drive_compliance": float(step.drive_compliance)}
     return None
 
 
+def _net_parameters(name):
+    return model_pipeline(name, {}).named_steps["clf"].get_params(deep=False)
+
+
 def make_estimator(model, cfg, seed, n_classes, dropout=None):
-    """A fresh classifier for one run: a named model's net from its factory, or a seeded clone."""
+    """A fresh classifier for one run: a named model's last step, or a seeded clone of an estimator."""
     dropout = cfg["dropout"] if dropout is None else dropout
-    if model in LOGISTIC_MODELS:
+    if isinstance(model, str) and not pipeline_info(model).random:
         # a logistic regression, refitted on all its presses at each iteration: no epochs, learning
         # rate, dropout or batches; its samples come from the Laplace posterior
         return model_pipeline(model, cfg, random_state=int(seed)).named_steps["clf"]
@@ -166,7 +164,7 @@ def make_estimator(model, cfg, seed, n_classes, dropout=None):
                       device=cfg.get("device", "cpu"))
         if cfg["batch_size"] is not None:
             kwargs["batch_size"] = int(cfg["batch_size"])
-        if model == "convlstm":
+        if "dropout_placement" in _net_parameters(model):  # the ConvLSTM's
             kwargs["dropout_placement"] = cfg.get("dropout_placement", "head")
         if cfg.get("early_stopping") is not None:
             kwargs["callbacks"] = [("early_stopping", EarlyStoppingAfterFirstFit(

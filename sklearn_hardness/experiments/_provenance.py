@@ -1,20 +1,16 @@
-"""Provenance of generated tables: the command, configuration, code and machine that made them.
+"""Provenance of generated outputs: the command, commit, date and machine that made them (private).
 
-A table's floats depend on the CPU and the library builds that computed them, so
-they cannot be checked on another machine; what made them can. A provenance line
-names the command, the configuration hash, a fingerprint of the code (its syntax
-tree without docstrings or comments, so rewording the documentation changes
-nothing while any change of code does), the git commit, the machine (with the
-single-thread float32 matrix-product rate of ``benchmarks/bench_flops.py`` as its
-speed reference, and the kernels its BLAS runs) and the date. Tests then compare
-the fingerprint and the configuration hash with the current code's, on any machine.
+A table's floats depend on the CPU and the library builds that computed them. Each
+output of the command line starts with one line naming the command, the
+configuration hash where it has one, the git commit, the machine (with the
+single-thread float32 matrix-product rate as its speed reference, and the kernels
+its BLAS runs) and the date. It records what made the output; no test compares it
+with the current code (an output is rerun when its question is revisited).
 """
 
 from __future__ import annotations
 
-import ast
 import datetime
-import hashlib
 import json
 import os
 import platform
@@ -24,98 +20,17 @@ import time
 import numpy as np
 import torch
 
-__all__ = ["code_fingerprint", "machine_reference", "matmul_gflops", "provenance_header", "parse_provenance"]
+__all__ = ["machine_reference", "matmul_gflops", "provenance_header", "parse_provenance"]
 
 _PACKAGE_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 _PREFIX = "# provenance "
-
-
-def _strip_docstrings(tree):
-    for node in ast.walk(tree):
-        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
-            body = node.body
-            if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) \
-                    and isinstance(body[0].value.value, str):
-                node.body = body[1:] or [ast.Pass()]
-    return tree
-
-
-def _stable_dump(node):
-    """``ast.dump`` without the fields that are empty or None.
-
-    Python versions add fields with empty defaults (3.12's ``type_params``)
-    and 3.13 leaves empty ones out of ``ast.dump``; some 3.12 releases also end
-    an f-string's parts with an empty string. Dropping both gives one text per
-    program on Python 3.10 to 3.13.
-    """
-    if isinstance(node, ast.AST):
-        fields = []
-        for name in node._fields:
-            value = getattr(node, name, None)
-            if isinstance(node, ast.JoinedStr) and name == "values":
-                value = [v for v in value if not (isinstance(v, ast.Constant) and v.value == "")]
-            if value is None or (isinstance(value, list) and not value):
-                continue
-            fields.append(f"{name}={_stable_dump(value)}")
-        return f"{type(node).__name__}({', '.join(fields)})"
-    if isinstance(node, list):
-        return "[" + ", ".join(_stable_dump(v) for v in node) + "]"
-    return repr(node)
-
-
-def code_fingerprint(root=None, *, legacy=False):
-    """A fingerprint of the Python code under ``root``, blind to docstrings and comments.
-
-    SHA-256 over the syntax tree of every ``.py`` file (sorted by relative
-    path, docstrings removed; comments and layout never reach the syntax
-    tree), so any change that can alter what the code computes changes it,
-    while rewording documentation does not. Fields a Python version leaves
-    empty are not part of the text hashed, so the fingerprint is the same on
-    Python 3.10 to 3.13.
-
-    Parameters
-    ----------
-    root : str or path-like or None, default=None
-        Folder to fingerprint; None: the installed ``sklearn_hardness`` package.
-    legacy : bool, default=False
-        The fingerprint as written before 2026-11-24 (plain ``ast.dump``),
-        which differs between Python versions (3.10 and 3.11 agree; 3.12 and
-        3.13 each give another): only to check files made then.
-
-    Returns
-    -------
-    fingerprint : str
-        The first 16 hexadecimal digits of the SHA-256.
-
-    Examples
-    --------
-    >>> from sklearn_hardness.experiments import code_fingerprint
-    >>> len(code_fingerprint())
-    16
-    """
-    root = os.path.abspath(_PACKAGE_ROOT if root is None else os.fspath(root))
-    if not os.path.isdir(root):
-        raise ValueError(f"root {root!r} is not a folder.")
-    paths = []
-    for folder, dirs, files in os.walk(root):
-        dirs[:] = sorted(d for d in dirs if d != "__pycache__" and not d.startswith("."))
-        paths += [os.path.join(folder, f) for f in files if f.endswith(".py")]
-    dump = ast.dump if legacy else _stable_dump
-    h = hashlib.sha256()
-    for path in sorted(paths, key=lambda p: os.path.relpath(p, root).replace(os.sep, "/")):
-        with open(path, "rb") as f:
-            tree = _strip_docstrings(ast.parse(f.read(), filename=path))
-        h.update(os.path.relpath(path, root).replace(os.sep, "/").encode() + b"\0")
-        h.update(dump(tree).encode() + b"\0")
-    return h.hexdigest()[:16]
 
 
 def matmul_gflops(n=2048, repeat=3, threads=1):
     """The float32 matrix-product rate of this machine: the speed reference of timings.
 
     Times ``a @ b`` of two ``n x n`` float32 tensors (one warm-up, median of
-    ``repeat``) on ``threads`` torch threads; ``benchmarks/bench_flops.py``
-    uses it as the practical peak of the cores. About 1 s at the defaults on
+    ``repeat``) on ``threads`` torch threads: the practical peak of a core. About 1 s at the defaults on
     a core doing 75-100 GFLOP/s.
 
     Parameters
@@ -239,7 +154,7 @@ def _git_commit(root=_PACKAGE_ROOT):
 
 
 def provenance_header(command, *, config_hash=None, machine=None, date=None, commit=None):
-    """One line naming what made a table: command, config hash, code, commit, machine, date.
+    """One line naming what made an output: command, config hash, commit, machine, date.
 
     Parameters
     ----------
@@ -258,13 +173,12 @@ def provenance_header(command, *, config_hash=None, machine=None, date=None, com
     -------
     line : str
         ``"# provenance "`` followed by one line of JSON with the keys
-        ``command``, ``config_hash``, ``code_fingerprint`` (of the installed
-        package), ``commit``, ``machine`` and ``date``; read back with
-        :func:`parse_provenance`.
+        ``command``, ``config_hash``, ``commit``, ``machine`` and ``date``;
+        read back with :func:`parse_provenance`.
 
     Examples
     --------
-    >>> from sklearn_hardness.experiments import parse_provenance, provenance_header
+    >>> from sklearn_hardness.experiments._provenance import parse_provenance, provenance_header
     >>> line = provenance_header("sklearn-hardness reproduce --quick", machine={}, date="2026-01-01T00:00Z")
     >>> parse_provenance(line)["command"]
     'sklearn-hardness reproduce --quick'
@@ -274,7 +188,6 @@ def provenance_header(command, *, config_hash=None, machine=None, date=None, com
     record = {
         "command": command,
         "config_hash": config_hash,
-        "code_fingerprint": code_fingerprint(),
         "commit": _git_commit() if commit is None else commit,
         "machine": machine_reference() if machine is None else machine,
         "date": date or datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%MZ"),

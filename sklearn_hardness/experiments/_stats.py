@@ -78,7 +78,7 @@ def decision_stop(record, *, threshold=0.8, patience=2):
 
     Examples
     --------
-    >>> from sklearn_hardness.experiments import decision_stop
+    >>> from sklearn_hardness.experiments._stats import decision_stop
     >>> rec = {"key": {"test_class": 1}, "initial_indices": list(range(10)),
     ...        "drawn_indices": [[10, 11], [12, 13], [14, 15]],
     ...        "predictions": [[0, 1, 0], [1, 1, 0], [1, 1, 1], [1, 1, 1]]}

@@ -12,28 +12,23 @@
 * :class:`LaplaceLogisticRegression`: scikit-learn's logistic regression with
   ``predict_proba_samples`` from the Laplace approximation of its posterior
   (the contact-profile pipeline's logistic head).
-* :class:`StackedConvLSTMNet`: K independent nets stepped as one module
-  (``torch.func.vmap``), for ensembles and many small runs on a GPU.
+* :func:`pipeline_names`, :func:`pipeline_info`, :func:`make_named_pipeline`:
+  the ready-made pipelines by name (the names ``sklearn-hardness evaluate`` and
+  ``reproduce`` take), and their ``make_*_pipeline`` builders;
+  :func:`make_peak_change_baseline`, the one-number baseline.
 
-All three have ``predict_proba_samples(X, n_samples, random_state)`` for
+The nets have ``predict_proba_samples(X, n_samples, random_state)`` for
 batched MC-dropout samples, and :func:`is_converged` implements the paper's
-convergence rule (:func:`chance_scaled_threshold` carries it to any number of
-classes). :class:`EarlyStoppingAfterFirstFit` stops the trainings after the
-first one early (active sampling's ``partial_fit`` per query).
+convergence rule.
 """
 
 from ._augmentation import FrameAugmenter
-from ._callbacks import EarlyStoppingAfterFirstFit
-from ._convergence import chance_scaled_threshold, check_convergence, is_converged
-from ._convlstm import ConvLSTMClassifier, ConvLSTMLayer, ConvLSTMNet
+from ._convergence import is_converged
+from ._convlstm import ConvLSTMClassifier
 from ._ensemble import EnsembleClassifier
-from ._intensity_channels import IntensityChannels
 from ._laplace import LaplaceLogisticRegression
-from ._mc_dropout import MCDropoutClassifierBase
-from ._mc_sampling import MCDropout
-from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, MLPHead, OFNNClassifier
+from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
 from ._pipelines import (
-    FrameScaler,
     MCDropoutPipeline,
     make_contact_profile_pipeline,
     make_convlstm_pipeline,
@@ -41,16 +36,20 @@ from ._pipelines import (
     make_loading_compliance_pipeline,
     make_ofnn_pipeline,
 )
-from ._stacked import StackedConvLSTMNet
+from ._peak_change import make_peak_change_baseline, peak_contact_change
+from .._registry import make_named_pipeline, pipeline_info, pipeline_names
 
 __all__ = [
+    "pipeline_names",
+    "pipeline_info",
+    "make_named_pipeline",
+    "make_peak_change_baseline",
+    "peak_contact_change",
     "make_convlstm_pipeline",
     "make_ofnn_pipeline",
     "make_dinov2nn_pipeline",
     "make_contact_profile_pipeline",
     "make_loading_compliance_pipeline",
-    "FrameScaler",
-    "IntensityChannels",
     "FrameAugmenter",
     "MCDropoutPipeline",
     "OFNNClassifier",
@@ -59,14 +58,5 @@ __all__ = [
     "ConvLSTMClassifier",
     "EnsembleClassifier",
     "LaplaceLogisticRegression",
-    "MLPHead",
-    "ConvLSTMNet",
-    "ConvLSTMLayer",
-    "StackedConvLSTMNet",
-    "MCDropout",
-    "MCDropoutClassifierBase",
     "is_converged",
-    "check_convergence",
-    "chance_scaled_threshold",
-    "EarlyStoppingAfterFirstFit",
 ]

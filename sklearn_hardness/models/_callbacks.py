@@ -31,7 +31,8 @@ class EarlyStoppingAfterFirstFit(EarlyStopping):
 
     Examples
     --------
-    >>> from sklearn_hardness.models import EarlyStoppingAfterFirstFit, OFNNClassifier
+    >>> from sklearn_hardness.models import OFNNClassifier
+    >>> from sklearn_hardness.models._callbacks import EarlyStoppingAfterFirstFit
     >>> net = OFNNClassifier(max_epochs=50, callbacks=[
     ...     ("early_stopping", EarlyStoppingAfterFirstFit(monitor="train_loss", patience=3))])
     """

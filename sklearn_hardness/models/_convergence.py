@@ -60,7 +60,7 @@ def chance_scaled_threshold(n_classes, *, reference_classes=5, reference_thresho
 
     Examples
     --------
-    >>> from sklearn_hardness.models import chance_scaled_threshold
+    >>> from sklearn_hardness.models._convergence import chance_scaled_threshold
     >>> chance_scaled_threshold(5)
     1.0
     >>> round(chance_scaled_threshold(9), 3), round(chance_scaled_threshold(3), 3)

@@ -63,7 +63,7 @@ class IntensityChannels(TransformerMixin, BaseEstimator):
     Examples
     --------
     >>> import numpy as np
-    >>> from sklearn_hardness.models import IntensityChannels
+    >>> from sklearn_hardness.models._intensity_channels import IntensityChannels
     >>> X = np.zeros((1, 2, 4, 4, 1), np.float32)
     >>> X[0, 1, 1:3, 1:3] = 2.0                     # contact in the second frame
     >>> Xt = IntensityChannels().fit_transform(X)

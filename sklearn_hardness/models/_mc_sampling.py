@@ -68,7 +68,7 @@ class MCDropout(torch.nn.Module):
     Examples
     --------
     >>> import torch
-    >>> from sklearn_hardness.models import MCDropout
+    >>> from sklearn_hardness.models._mc_sampling import MCDropout
     >>> layer = MCDropout(0.5, per_channel=True).train()
     >>> layer.generator = torch.Generator().manual_seed(0)
     >>> out = layer(torch.ones(1, 3, 2, 2))

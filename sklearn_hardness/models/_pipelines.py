@@ -122,7 +122,7 @@ class FrameScaler(TransformerMixin, BaseEstimator):
     Examples
     --------
     >>> import numpy as np
-    >>> from sklearn_hardness.models import FrameScaler
+    >>> from sklearn_hardness.models._pipelines import FrameScaler
     >>> X = np.random.default_rng(0).normal(0, 3, size=(4, 2, 6, 8, 1)).astype(np.float32)
     >>> scaler = FrameScaler().fit(X)
     >>> round(float(scaler.transform(X).std()), 3)
@@ -161,19 +161,11 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
     - objects the model has *not* seen (a user's own objects, evaluated
       object-disjoint): ``intensity_channels=True``.
 
-    Measured: on the simulated ``everyday`` preset before its calibration
-    against real recordings, object-disjoint, ``intensity_channels=True``
-    lifted the ConvLSTM's balanced accuracy from 0.53 to 0.65, against 0.45
-    for the one-number baseline (``sklearn-hardness evaluate everyday``, which
-    uses it); on the calibrated preset both inputs score about 0.81-0.87
-    against 0.43 and differ by less than one seed's spread across machines
-    (``tests/test_models_ready_made_unseen_objects.py``). On real GelSight
-    Mini recordings of unseen objects neither input beat the one-number
-    baseline (issue 20: 0.50 against 0.55); for a user's own objects, compare
-    with :func:`make_contact_profile_pipeline`. With 5 training presses per
-    object on ``silicone5`` intensity channels drop test accuracy from 73.6%
-    to 44.9%, on ``shore9`` from 72.0% to 49.0% (``python
-    benchmarks/bench_pipeline_inputs.py``). Tables in ``docs/simulator.md``.
+    Which input ranks new objects better is measured, not assumed: compare
+    them with :func:`~sklearn_hardness.model_selection.evaluate_pipelines`
+    (``"convlstm"`` and ``"convlstm_intensity"``) on your own objects, beside
+    the one-number baseline; the simulator page of the user guide has the
+    figures.
 
     Parameters
     ----------
@@ -336,22 +328,10 @@ def make_contact_profile_pipeline(*, head="logistic", features="all", max_side=8
     noise, loading time in whole frames and between frames, contact area and
     spread, how contact area grows with intensity, concentration, texture
     ratio, ...) computed on the whole video, without frame selection, then a
-    classifier. On real GelSight Mini recordings of unseen objects its first
-    ten features were the one ready-made input that beat the one-number
-    peak-change baseline (balanced accuracy 0.60 against 0.55, with the
-    logistic head; the ConvLSTM and OFNN scored 0.50 and 0.46: issue 20).
-    The loading time between frames and the contact spread, added after that
-    measurement, raise the logistic head on the simulated ``everyday``
-    preset from 0.57 to 0.66 on average over five seeds that did not choose
-    them (the one number: 0.57; ``docs/preregistration/
-    contact_profile_loading_features.md``); on real held-out presses they are
-    not measured yet.
-
-    The default head is the logistic regression: it is the head measured on
-    real held-out presses, it scores above the MC-dropout MLP on the
-    simulated presses of new objects (five seeds that chose nothing: 0.66
-    against 0.63, ``sklearn-hardness evaluate everyday --seed S``), and its
-    posterior samples drive active sampling.
+    classifier. The default head is the logistic regression, whose posterior
+    samples drive active sampling; ``head="nn"`` is an MC-dropout MLP. How
+    the heads and inputs compare on real and simulated new objects is in the
+    simulator page of the user guide.
 
     Parameters
     ----------

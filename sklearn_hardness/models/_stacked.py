@@ -89,7 +89,7 @@ class StackedConvLSTMNet(torch.nn.Module):
     Examples
     --------
     >>> import torch
-    >>> from sklearn_hardness.models import StackedConvLSTMNet
+    >>> from sklearn_hardness.models._stacked import StackedConvLSTMNet
     >>> stacked = StackedConvLSTMNet.from_seeds(3, [0, 1, 2], in_channels=1, n_classes=2, filters=(2,))
     >>> X = torch.randn(3, 4, 2, 6, 8, 1)  # (members, batch, frames, H, W, C)
     >>> stacked(X).shape

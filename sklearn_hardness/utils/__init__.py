@@ -1,5 +1,4 @@
-"""Utilities shared across sklearn-hardness (input validation, random state helpers)."""
+"""Utilities for users' own estimators: :mod:`sklearn_hardness.utils.estimator_checks`, the video versions
+of scikit-learn's common checks. Input validation and random-state helpers are private."""
 
-from ._validation import check_video, check_video_sequence, check_frames_array
-
-__all__ = ["check_video", "check_video_sequence", "check_frames_array"]
+__all__ = []

@@ -67,7 +67,7 @@ def check_video(video, *, name="video", min_frames=1, allow_float=True):
     Examples
     --------
     >>> import numpy as np
-    >>> from sklearn_hardness.utils import check_video
+    >>> from sklearn_hardness.utils._validation import check_video
     >>> check_video(np.zeros((4, 8, 8), dtype=np.uint8)).shape
     (4, 8, 8, 1)
     """

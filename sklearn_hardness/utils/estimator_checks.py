@@ -260,7 +260,7 @@ def check_video_estimator(estimator, X, y, *, expected_failed_checks=None):
     Examples
     --------
     >>> import numpy as np
-    >>> from sklearn_hardness.models import FrameScaler
+    >>> from sklearn_hardness.models._pipelines import FrameScaler
     >>> from sklearn_hardness.utils.estimator_checks import check_video_estimator
     >>> X = np.random.default_rng(0).random((6, 3, 8, 8, 1), dtype=np.float32)
     >>> len(check_video_estimator(FrameScaler(), X, np.arange(6) % 2))

@@ -1,4 +1,4 @@
-"""The ready-made pipelines rank the hardness of objects they have not seen (issue 10's target).
+"""On new objects of the simulated ``everyday`` preset the ready-made pipelines beat the one-number baseline.
 
 Object-disjoint 5-fold CV on the default ``everyday`` preset, as
 ``sklearn-hardness evaluate everyday`` runs it, but with each pipeline's
@@ -24,17 +24,17 @@ from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import make_pipeline
 
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import make_peak_change_baseline, peak_contact_change
+from sklearn_hardness.models import make_peak_change_baseline, peak_contact_change
 from sklearn_hardness.features import ContactProfileFeatures, OpticalFlowFeatures
 from sklearn_hardness.models import (
     ConvLSTMClassifier,
-    FrameScaler,
-    IntensityChannels,
     OFNNClassifier,
     make_contact_profile_pipeline,
     make_convlstm_pipeline,
     make_ofnn_pipeline,
 )
+from sklearn_hardness.models._pipelines import FrameScaler
+from sklearn_hardness.models._intensity_channels import IntensityChannels
 
 from ._presets import EVERYDAY_BEFORE
 
@@ -63,7 +63,7 @@ def everyday():
 
 
 @pytest.mark.slow
-def test_ready_made_nets_beat_the_one_number_baseline_on_unseen_objects(everyday):
+def test_pipelines_beat_the_one_number_on_new_objects_of_the_simulated_everyday_preset(everyday):
     data, y, groups, frames, flow, peak, profile = everyday
     baseline = _cv(make_peak_change_baseline()[1:], peak, y, groups)  # scaler + balanced logistic regression
     assert 0.35 < baseline < 0.55

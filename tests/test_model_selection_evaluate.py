@@ -12,17 +12,12 @@ from sklearn.preprocessing import FunctionTransformer
 from sklearn.utils import Bunch
 
 from sklearn_hardness._cli import main
-from sklearn_hardness._experiment_names import PIPELINE_NAMES
+from sklearn_hardness._registry import PIPELINE_NAMES
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import (
-    evaluate_pipelines,
-    format_evaluation,
-    make_peak_change_baseline,
-    peak_contact_change,
-    plot_confusion_matrices,
-    run_model_baselines,
-)
-from sklearn_hardness.models import make_contact_profile_pipeline
+from sklearn_hardness.experiments import run_model_baselines
+from sklearn_hardness.model_selection import (corrected_interval, evaluate_pipelines, format_evaluation,
+                                              plot_confusion_matrices)
+from sklearn_hardness.models import make_contact_profile_pipeline, make_peak_change_baseline, peak_contact_change
 
 
 @pytest.fixture(scope="module")
@@ -121,6 +116,25 @@ def test_margin_interval_is_corrected_for_overlapping_training_sets(tiny):
         assert row["vs_baseline_ci"] == pytest.approx((max(diff.mean() - half, -1), min(diff.mean() + half, 1)))
         plain = t * diff.std(ddof=1) / np.sqrt(len(diff))
         assert half > plain * 1.5  # 3 folds: sqrt(1 + 3 * 0.5) = 1.58
+        # the public function gives the table's interval
+        assert corrected_interval(result.fold_scores[row["pipeline"]], ratio,
+                                  baseline=result.fold_scores["peak_change"],
+                                  bounds=(-1, 1)) == (row["vs_baseline"], row["vs_baseline_ci"])
+
+
+def test_corrected_interval_of_scores_and_of_paired_differences():
+    scores, base = np.array([0.6, 0.7, 0.65, 0.8, 0.75]), np.full(5, 0.5)
+    mean, (lo, hi) = corrected_interval(scores, 0.25)
+    half = stats.t.ppf(0.975, 4) * np.sqrt(scores.var(ddof=1) * (1 / 5 + 0.25))
+    assert mean == pytest.approx(0.7) and (lo, hi) == pytest.approx((0.7 - half, 0.7 + half))
+    assert corrected_interval(scores, 0.25, baseline=base)[1] == pytest.approx((0.2 - half, 0.2 + half))
+    assert corrected_interval([0.9, 1.0, 0.95], 0.5, bounds=(0, 1))[1][1] == 1.0  # clipped to the score's range
+    one_fold = corrected_interval([0.9, np.nan], 0.5)  # one finite fold: its mean, no interval
+    assert one_fold[0] == 0.9 and np.isnan(one_fold[1]).all()
+    wider = corrected_interval(scores, 0.25, df=2)[1]
+    assert wider[0] < lo and wider[1] > hi  # fewer degrees of freedom (repeated folds)
+    with pytest.raises(ValueError, match="same folds"):
+        corrected_interval(scores, 0.25, baseline=base[:3])
 
 
 def test_repeated_folds_reuse_the_objects_in_other_assignments(tiny):
@@ -387,12 +401,12 @@ def test_cli_evaluate_on_a_manifest(tmp_path, capsys, monkeypatch):
     assert saved["recommended"] is None and saved["recommended_with_samples"] is None  # the baseline alone
     # one press per object: the figures per object are those per press, and the table leaves them out
     assert saved["object_fold_scores"] == saved["fold_scores"] and "per object" not in text
-    # the saved table says what made it: the command less --out, and the code that ran
-    from sklearn_hardness.experiments import code_fingerprint, parse_provenance
+    # the saved table says what made it: the command less --out, the commit, the machine
+    from sklearn_hardness.experiments._provenance import parse_provenance
 
     record = parse_provenance((out / "evaluation.txt").read_text())
     assert record["command"] == f"sklearn-hardness evaluate {root / 'manifest.csv'} --pipelines --cv 3"
-    assert record["code_fingerprint"] == code_fingerprint() and saved["provenance"] == record
+    assert record["machine"]["matmul_gflops"] > 0 and saved["provenance"] == record
     assert "object-disjoint 3-fold CV" in (out / "evaluation.txt").read_text()
     # --n-repeats: the folds of every repetition, saved and named in the table
     assert main(["evaluate", str(root / "manifest.csv"), "--pipelines", "--cv", "3", "--n-repeats", "2",
@@ -414,12 +428,12 @@ def test_cli_evaluate_on_a_manifest(tmp_path, capsys, monkeypatch):
 
 def test_named_nets_are_seeded_by_random_state():
     """A run by name repeats exactly: the nets take the evaluation's seed."""
-    from sklearn_hardness.experiments._evaluate import _named_pipeline
+    from sklearn_hardness.model_selection._evaluate import _pipeline_by_name
 
-    assert _named_pipeline("ofnn", 3)[-1].random_state == 3
-    conv = _named_pipeline("convlstm", 3)
+    assert _pipeline_by_name("ofnn_quantiles", 3)[-1].random_state == 3
+    conv = _pipeline_by_name("convlstm_intensity", 3)
     assert conv[-1].random_state == 3 and "intensity" in conv.named_steps
-    assert _named_pipeline("ofnn")[-1].random_state is None
+    assert _pipeline_by_name("ofnn_quantiles")[-1].random_state is None
 
 
 def test_a_run_by_name_repeats_exactly(tiny):
@@ -480,12 +494,12 @@ def test_peak_change_roi_measures_only_the_region():
 
 def test_roi_reaches_the_baseline_and_every_named_pipeline():
     """``evaluate --roi``: each pipeline reads the gel only; where the rest of the frame changes, that decides."""
-    from sklearn_hardness.experiments._evaluate import _named_pipeline
+    from sklearn_hardness.model_selection._evaluate import _pipeline_by_name
 
     from ._synthetic import FRAMED_GEL, framed_press, growing_disc_press
 
     for name in PIPELINE_NAMES:
-        params = _named_pipeline(name, 0, FRAMED_GEL).get_params()
+        params = _pipeline_by_name(name, 0, FRAMED_GEL).get_params()
         if name == "loading_compliance":  # force and position: no frames to read
             assert not any(k.endswith("__roi") for k in params), name
             continue
@@ -509,7 +523,7 @@ def test_roi_reaches_the_baseline_and_every_named_pipeline():
 
 def test_per_press_steps_run_once_for_all_folds_with_the_same_results(tiny, monkeypatch):
     """Selection and features of each press: one pass for every fold and pipeline that shares them."""
-    from sklearn_hardness.experiments import _evaluate
+    from sklearn_hardness.model_selection import _evaluate
     from sklearn_hardness.features import ContactProfileFeatures
 
     calls = []
@@ -538,7 +552,7 @@ def test_per_press_pass_gives_the_nets_the_same_inputs(tiny, monkeypatch):
     """The frame selector and frozen DINOv2 features (a tiny random backbone) once for all folds: the same results."""
     from .test_features_dinov2 import tiny_backbone
 
-    from sklearn_hardness.experiments import _evaluate
+    from sklearn_hardness.model_selection import _evaluate
     from sklearn_hardness.models import make_convlstm_pipeline, make_dinov2nn_pipeline
 
     def nets():
@@ -556,7 +570,7 @@ def test_per_press_pass_gives_the_nets_the_same_inputs(tiny, monkeypatch):
 
 
 def test_all_columns_shares_a_contact_profile_pass_only_where_columns_can_be_taken():
-    from sklearn_hardness.experiments._per_press import all_columns, prefix_key, split_per_press
+    from sklearn_hardness.model_selection._per_press import all_columns, prefix_key, split_per_press
     from sklearn_hardness.features import ContactProfileFeatures
     from sklearn_hardness.models import make_contact_profile_pipeline
 
@@ -577,7 +591,7 @@ def test_all_columns_shares_a_contact_profile_pass_only_where_columns_can_be_tak
 
 
 def test_split_per_press_stops_at_the_first_step_that_learns():
-    from sklearn_hardness.experiments._per_press import split_per_press
+    from sklearn_hardness.model_selection._per_press import split_per_press
     from sklearn_hardness.models import (
         make_contact_profile_pipeline,
         make_convlstm_pipeline,
@@ -620,7 +634,7 @@ class _CountsFits(DummyClassifier):
 def test_presses_a_pipeline_cannot_take_are_named_by_dataset_index_and_file(tiny):
     # one-frame videos: the contact-profile features take them, the nets' frame selection needs two
     # frames; the chunks of the per-press pass (and the folds) would name them by their index there
-    from sklearn_hardness.experiments._per_press import FailingPressesError
+    from sklearn_hardness.model_selection._per_press import FailingPressesError
     from sklearn_hardness.preprocessing import ContactFrameSelector
 
     data = Bunch(**tiny)
@@ -655,7 +669,7 @@ def test_presses_a_pipeline_cannot_take_are_named_by_dataset_index_and_file(tiny
 
 def test_an_error_of_the_steps_not_the_presses_is_raised_as_it_is(tiny):
     # every press would fail alone with it: a parameter, not the presses (as missing weights would be)
-    from sklearn_hardness.experiments._per_press import FailingPressesError
+    from sklearn_hardness.model_selection._per_press import FailingPressesError
     from sklearn_hardness.preprocessing import ContactFrameSelector
 
     bad = make_pipeline(ContactFrameSelector(roi=(0.9, 0.1, 0.0, 1.0)), DummyClassifier())
@@ -668,7 +682,7 @@ def test_an_error_of_the_steps_not_the_presses_is_raised_as_it_is(tiny):
 
 
 def test_an_error_no_press_raises_alone_is_raised_as_it_is():
-    from sklearn_hardness.experiments._per_press import _fit_transform_chunk
+    from sklearn_hardness.model_selection._per_press import _fit_transform_chunk
 
     class _FailsOnMany(FunctionTransformer):
         def fit_transform(self, X, y=None):
@@ -767,8 +781,8 @@ def test_cli_evaluates_loading_compliance_on_a_simulated_manifest(tmp_path, caps
 
 def test_by_default_evaluate_adds_loading_compliance_where_every_press_has_force_and_position(tiny, monkeypatch):
     from sklearn_hardness._cli import build_parser
-    from sklearn_hardness._experiment_names import DEFAULT_PIPELINES
-    from sklearn_hardness.experiments import _evaluate
+    from sklearn_hardness._registry import DEFAULT_PIPELINES
+    from sklearn_hardness.model_selection import _evaluate
 
     assert _evaluate._default_pipelines(tiny) == [*DEFAULT_PIPELINES, "loading_compliance"]
     no_position = Bunch(**{k: v for k, v in tiny.items() if k != "position"})
@@ -778,7 +792,7 @@ def test_by_default_evaluate_adds_loading_compliance_where_every_press_has_force
     assert _evaluate._default_pipelines(one_lacking) == list(DEFAULT_PIPELINES)
     # evaluate_pipelines(pipelines=None) and the command without --pipelines take that default
     asked = []
-    monkeypatch.setattr(_evaluate, "_named_pipeline",
+    monkeypatch.setattr(_evaluate, "_pipeline_by_name",
                         lambda name, seed=None, roi=None: asked.append(name) or make_peak_change_baseline())
     evaluate_pipelines(tiny, None, cv=3, verbose=0)
     assert asked[:-1] == [*DEFAULT_PIPELINES, "loading_compliance"] and asked[-1] == "peak_change"
@@ -839,7 +853,7 @@ def test_flow_note_counts_the_corners_and_lost_tracks_of_every_press(tiny):
     # press has no corner at all, and its row is that of a press without motion
     import warnings
 
-    from sklearn_hardness.experiments._per_press import split_per_press, transform_per_press
+    from sklearn_hardness.model_selection._per_press import split_per_press, transform_per_press
     from sklearn_hardness.features import OpticalFlowFeatures
     from sklearn_hardness.preprocessing import ContactFrameSelector
 
@@ -907,7 +921,7 @@ def test_slow_fits_are_shared_among_the_workers(tiny, tmp_path):
 
 
 def test_seconds_left_times_each_pipeline_by_its_own_fits():
-    from sklearn_hardness.experiments._evaluate import _seconds_left
+    from sklearn_hardness.model_selection._evaluate import _seconds_left
 
     # the baseline's 5 fits took 0.01 s each, the net's first of 5 took 70 s: 4 net fits of 70 s on 2 workers
     # (the mean over every finished fit would say 71 s / 6 fits x 4 fits left, under a minute)

@@ -6,7 +6,7 @@ row by that press alone, and their ``fit`` learns nothing from the presses
 (it checks parameters and shapes, or loads a frozen backbone). Fitting them
 on a fold's training presses and transforming its test presses then gives,
 press for press, what transforming every press once gives. Object-disjoint
-cross-validation (:func:`~sklearn_hardness.experiments.evaluate_pipelines`)
+cross-validation (:func:`~sklearn_hardness.model_selection.evaluate_pipelines`)
 runs them once over all presses instead of once per fold and cross-validates
 the rest of each pipeline on their output: the same scores, a ``cv``-th of
 the work in these steps, which is most of the work of every pipeline
@@ -31,7 +31,7 @@ from ..features._common import feature_columns
 from ..features._contact_profile import FEATURE_NAMES
 from ..preprocessing import ContactFrameSelector
 from ..utils._validation import names_a_video, rename_videos
-from ._peak_baseline import peak_contact_change
+from ..models._peak_change import peak_contact_change
 
 __all__ = ["FailingPressesError", "all_columns", "describe", "prefix_key", "split_per_press",
            "transform_per_press"]

@@ -5,7 +5,7 @@ objects needs the other question answered: how well does a pipeline rank the
 hardness of an object it has never seen? :func:`evaluate_pipelines` answers
 it with folds that keep every object's presses together
 (:class:`~sklearn.model_selection.StratifiedGroupKFold`), and reports each
-pipeline beside the one-number baseline of :func:`make_peak_change_baseline`.
+pipeline beside the one-number baseline of :func:`~sklearn_hardness.models.make_peak_change_baseline`.
 """
 
 from __future__ import annotations
@@ -13,20 +13,17 @@ from __future__ import annotations
 import numbers
 import time
 import warnings
-from pathlib import Path
 
 import numpy as np
 from joblib import Parallel, delayed, effective_n_jobs
-from scipy import stats
 from sklearn.base import BaseEstimator, clone
-from sklearn.metrics import ConfusionMatrixDisplay, balanced_accuracy_score, confusion_matrix
+from sklearn.metrics import balanced_accuracy_score, confusion_matrix
 from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import Pipeline
 from sklearn.utils import Bunch, _safe_indexing, check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
-from .._experiment_names import DEFAULT_PIPELINES, PIPELINE_NAMES
-from .. import models
+from .._registry import DEFAULT_PIPELINES, PIPELINE_NAMES, make_named_pipeline, pipeline_info
 from ..datasets import load_press_videos, make_presses
 from ..datasets._lazy import raise_unreadable
 from ..datasets._manifest import manifest_file
@@ -38,38 +35,18 @@ from ..preprocessing._contact_curve import _STATUSES
 from ..utils._random import int_seed
 from ..utils._validation import check_roi
 from ._force_position import force_position, presses_lacking_force_position
-from ._models import NAMED_CHOICES
-from ._peak_baseline import make_peak_change_baseline
 from ._per_press import (FailingPressesError, all_columns, describe, prefix_key, split_per_press,
                          transform_per_press)
-from ._runner import ProgressLog
+from ..utils._progress import ProgressLog
+from ._intervals import _interval, paired_difference
 
-__all__ = [
-    "evaluate_pipelines",
-    "format_evaluation",
-    "plot_confusion_matrices",
-]
+__all__ = ["evaluate_pipelines"]
 
 
-def _named_pipeline(name, seed=None, roi=None):
-    """A pipeline known by name; ``seed`` seeds the nets' initial weights, shuffling and dropout.
-
-    ``roi`` is the region of the frames each pipeline reads: every factory's
-    ``roi`` (the baseline's and the contact-profile features', the frame
-    selector's for the nets).
-    """
-    if name == "peak_change":
-        return make_peak_change_baseline(roi=roi)
-    if name in ("contact_profile", "contact_profile_3"):  # what the name adds: the experiments' NAMED_CHOICES
-        return models.make_contact_profile_pipeline(head="logistic", roi=roi, **NAMED_CHOICES.get(name, {}))
-    if name == "contact_profile_nn":
-        return models.make_contact_profile_pipeline(head="nn", roi=roi, random_state=seed)
-    if name == "convlstm":
-        # the test objects are never seen in training here: the input that carries over to them
-        return models.make_convlstm_pipeline(intensity_channels=True, roi=roi, random_state=seed)
-    if name == "loading_compliance":  # force and position, no frames: no roi, nothing random
-        return models.make_loading_compliance_pipeline()
-    return getattr(models, f"make_{name}_pipeline")(roi=roi, random_state=seed)
+def _pipeline_by_name(name, seed=None, roi=None):
+    """The registry's pipeline ``name``; ``seed`` seeds the nets, ``roi`` goes to the pipelines that read video."""
+    video = pipeline_info(name).input == "video"
+    return make_named_pipeline(name, random_state=seed, **({"roi": roi} if video else {}))
 
 
 def _takes_force_position(estimator):
@@ -96,35 +73,6 @@ def _load_dataset(dataset, random_state):
             "existing manifest (a .csv file, or a folder holding manifest.csv)."
         )
     return load_press_videos(path)
-
-
-def _ci95(values, test_train_ratio, df, *, bounds):
-    """Mean over folds and its corrected 95% t-interval, non-finite folds left out.
-
-    The variance of the mean is corrected for the folds' overlapping
-    training sets (``test_train_ratio``: ``n_test / n_train`` of the folds),
-    as Nadeau and Bengio (2003) propose and scikit-learn's example
-    "Statistical comparison of models using grid search" does:
-    ``var(d, ddof=1) * (1 / n + n_test / n_train)`` instead of
-    ``var(d, ddof=1) / n`` over ``n`` fold scores (the plain interval is too
-    narrow, Dietterich 1998). The t quantile has ``n - 1`` degrees of
-    freedom, or ``df`` when that is fewer (repeated folds: the folds of one
-    repetition, see :func:`evaluate_pipelines`). Fewer than two finite
-    values give no interval: ``(nan, nan)``, so that one fold cannot carry
-    a recommendation. The interval is clipped to ``bounds``, the range the
-    score can take (``[0, 1]`` for a balanced accuracy): the t-interval is
-    symmetric and reaches past a bound when the folds' scores lie near it
-    (0.92 [0.79, 1.04] before clipping), and no value past it can be true.
-    """
-    values = np.asarray([v for v in values if v is not None and np.isfinite(v)], dtype=float)
-    if len(values) < 2:
-        m = float(values.mean()) if len(values) else float("nan")
-        return m, (float("nan"), float("nan"))
-    m = float(values.mean())
-    t = stats.t.ppf(0.975, min(df, len(values) - 1))
-    half = float(t * np.sqrt(values.var(ddof=1) * (1.0 / len(values) + test_train_ratio)))
-    lo, hi = bounds
-    return m, (float(max(m - half, lo)), float(min(m + half, hi)))
 
 
 class _FailedPerPress(BaseEstimator):
@@ -376,20 +324,12 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     (:class:`~sklearn.model_selection.StratifiedGroupKFold` over
     ``object_id``), so the score says how a pipeline does on a new object.
     Every pipeline sees the same folds; the one-number baseline
-    (:func:`make_peak_change_baseline`) runs beside them, and each pipeline's
-    margin over it is paired by fold. ``recommended`` names the pipeline to
-    choose for these objects: the best one whose margin's 95% interval lies
-    above 0, or None when the one number does as well within the spread of
-    the folds (on real recordings of unseen objects the paper's nets did not
-    beat it, issue 20: measure before choosing). Every interval is corrected
-    for the folds' overlapping training sets (Nadeau and Bengio's corrected
-    t-interval, as in scikit-learn's example "Statistical comparison of
-    models using grid search"): the plain t-interval over folds is too
-    narrow, and recommended pipelines that did not carry over to newly
-    drawn objects (``benchmarks/bench_recommendation.py``). ``n_repeats``
-    repeats the object-disjoint split with other assignments of objects to
-    folds, so that the figures and the recommendation depend less on one
-    assignment; it does not make up for few objects.
+    (:func:`~sklearn_hardness.models.make_peak_change_baseline`) runs beside
+    them, and each pipeline's margin over it is paired by fold. Every interval
+    is corrected for the folds' overlapping training sets
+    (:func:`corrected_interval`). ``recommended`` names the best pipeline whose
+    margin's interval lies above 0, or None when the one number does as well.
+    See the user guide's page on evaluating pipelines on new objects.
 
     Parameters
     ----------
@@ -400,67 +340,33 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         holding ``manifest.csv``) read with
         :func:`~sklearn_hardness.datasets.load_press_videos`.
     pipelines : dict, list of str or None, default=None
-        ``{name: estimator}``, or names among ``"peak_change"``,
-        ``"contact_profile"`` (:class:`~sklearn_hardness.features.ContactProfileFeatures`
-        + balanced logistic regression,
-        :class:`~sklearn_hardness.models.LaplaceLogisticRegression`, whose
-        ``predict_proba_samples`` come from its Laplace posterior),
-        ``"contact_profile_3"`` (the same with three of the features:
-        ``log_peak_change``, ``log_loading_time`` and ``log_contact_spread``,
-        the video's readings of the contact's depth, loading time and size),
-        ``"contact_profile_nn"`` (the same features +
-        :class:`~sklearn_hardness.models.ContactProfileNNClassifier`, MC
-        dropout), ``"convlstm"``, ``"ofnn"``,
-        ``"dinov2nn"`` (the ready-made pipelines of
-        :mod:`sklearn_hardness.models`, built by their ``make_*_pipeline``
-        factories, the ConvLSTM with ``intensity_channels=True``), and
-        ``"loading_compliance"``
-        (:func:`~sklearn_hardness.models.make_loading_compliance_pipeline`:
-        not the video but each press's force and position per frame, the
-        dataset's ``force`` and ``position``; a manifest gives them with
-        ``force_path`` and ``position_path`` columns, the simulator's presets
-        always). A pipeline given in a dict whose first step is a
-        :class:`~sklearn_hardness.features.LoadingCompliance` reads them too.
-        None: ``["contact_profile", "contact_profile_nn", "convlstm", "ofnn"]``,
-        and ``"loading_compliance"`` where every press has its force and
-        position (a manifest with ``force_path`` and ``position_path``, the
-        simulator's presets); on real recordings of unseen objects the
-        contact-profile features were the video input that beat the
-        one-number baseline (issue 20), so they run by default beside the
-        paper's nets; where a robot recorded force and position, those tell
-        hardness more directly than any video input (on simulated new
-        objects, and in ordering real GelSight Wedge grasps). The leading
-        steps that turn each press into its row by that press alone (frame
-        selection, the contact-profile features, optical flow, frozen DINOv2
-        features, the peak change) run once over all presses, not once per
-        fold, and
-        pipelines that start with the same such steps share them (the two
-        contact-profile ones): the same scores, a ``cv``-th of the work in
-        those steps.
+        ``{name: estimator}``, or names of
+        :func:`~sklearn_hardness.models.pipeline_names` (built by
+        :func:`~sklearn_hardness.models.make_named_pipeline`;
+        ``"loading_compliance"`` reads each press's ``force`` and
+        ``position``, as does a given pipeline whose first step is a
+        :class:`~sklearn_hardness.features.LoadingCompliance`). None:
+        ``"contact_profile"``, ``"contact_profile_nn"``,
+        ``"convlstm_intensity"``, ``"ofnn_quantiles"``, and
+        ``"loading_compliance"`` where every press has force and position.
+        The leading steps that turn each press into its row by that press
+        alone (frame selection, frozen features, the peak change) run once
+        over all presses, not once per fold, shared by the pipelines that
+        start with them: the same scores for less work.
     cv : int, default=5
         Number of folds. Every class needs at least ``cv`` objects.
     n_repeats : int, default=1
-        Times the object-disjoint ``cv``-fold split is repeated, each time
-        with another assignment of objects to folds (a grouped
-        :class:`~sklearn.model_selection.RepeatedStratifiedKFold`), at
-        ``n_repeats`` times the compute. The means run over the
-        ``n_repeats * cv`` fold scores, and so depend less on how the
-        objects fell into folds. The intervals use the corrected variance
-        ``var * (1 / (n_repeats * cv) + n_test / n_train)`` over them, but
-        keep the ``cv - 1`` degrees of freedom of one repetition: every
-        repetition reuses the same objects, and with ``n_repeats * cv - 1``
-        degrees of freedom (Bouckaert and Frank, 2004) the margin's lower
-        end lay above 0 between equal pipelines more often than a 95%
-        interval promises (``benchmarks/bench_margin_interval.py
-        --n-repeats 5``; figures in the simulator page of the docs).
-        Repetitions do not narrow the intervals much: what narrows them is
-        more objects.
+        Times the object-disjoint split is repeated with other assignments
+        of objects to folds. The means and intervals run over the
+        ``n_repeats * cv`` fold scores, with the ``cv - 1`` degrees of freedom
+        of one repetition (every repetition reuses the same objects). More
+        objects narrow the intervals; repetitions little.
     baseline : bool, default=True
         Add the one-number baseline as ``"peak_change"``.
     roi : tuple (top, bottom, left, right) or None, default=None
         The region of the frames that the baseline and the pipelines given
         by name read (fractions of height and width): the ``roi`` of
-        :func:`make_peak_change_baseline` and of
+        :func:`~sklearn_hardness.models.make_peak_change_baseline` and of
         :class:`~sklearn_hardness.features.ContactProfileFeatures`, and of
         the nets' :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`.
         For sensors whose frame shows more than the gel (a GelSight Wedge
@@ -479,15 +385,8 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         of the pipelines given by name (so a run repeats exactly; pass
         seeded estimators in a dict to control them yourself).
     verbose : int, default=1
-        Progress on stderr: a line naming the work (pipelines, folds,
-        presses, objects), then one line per finished fit with the fits
-        done, the time elapsed and an estimate of the rest (the style of
-        the experiment runner's progress, readable in a batch job's log
-        too). The estimate times each pipeline by its own finished fits,
-        as a net's fit can outlast the baseline's a thousandfold, and names
-        the pipelines it cannot time yet; the fits run fold by fold, so
-        every pipeline's first fit ends early.
-        ``0`` is silent.
+        Progress on stderr: a line naming the work, then one line per
+        finished fit with an estimate of the time left. ``0`` is silent.
 
     Returns
     -------
@@ -571,7 +470,7 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     Examples
     --------
     >>> from sklearn_hardness.datasets import make_presses
-    >>> from sklearn_hardness.experiments import evaluate_pipelines
+    >>> from sklearn_hardness.model_selection import evaluate_pipelines
     >>> data = make_presses("everyday", n_per_class=2, n_objects=9, class_ratio=[1, 1, 1],
     ...                     image_size=(32, 40), codec=None, random_state=0)
     >>> result = evaluate_pipelines(data, pipelines=[], cv=3)
@@ -596,9 +495,9 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
             raise ValueError(f"unknown pipeline(s) {unknown}; choose among {list(PIPELINE_NAMES)} "
                              "or pass a dict {name: estimator}.")
         seed = int_seed(random_state)
-        named = {p: _named_pipeline(p, seed, roi) for p in pipelines}
+        named = {p: _pipeline_by_name(p, seed, roi) for p in pipelines}
     if baseline and "peak_change" not in named:
-        named = {"peak_change": _named_pipeline("peak_change", roi=roi), **named}
+        named = {"peak_change": _pipeline_by_name("peak_change", roi=roi), **named}
     if not named:
         raise ValueError("no pipelines to evaluate.")
     names = np.asarray(data.target_names)
@@ -663,14 +562,14 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
             if o["pred"] is not None:
                 pred[k // cv, test] = o["pred"]
         scores = np.array([o.get("balanced_accuracy", error_score) for o in rows], dtype=float)
-        ba, ba_ci = _ci95(scores, test_train_ratio, cv - 1, bounds=(0.0, 1.0))
+        ba, ba_ci = _interval(scores, test_train_ratio, cv - 1, bounds=(0.0, 1.0))
         maes = [o.get("mae") for o in rows]
-        mae, mae_ci = (None, None) if hardness is None else _ci95(maes, test_train_ratio, cv - 1,
+        mae, mae_ci = (None, None) if hardness is None else _interval(maes, test_train_ratio, cv - 1,
                                                                   bounds=(0.0, np.inf))
         fold_scores[name], predictions[name] = scores, pred[0]
         object_fold_scores[name] = np.array([o.get("object_balanced_accuracy", error_score) for o in rows],
                                             dtype=float)
-        object_ba, object_ba_ci = _ci95(object_fold_scores[name], test_train_ratio, cv - 1, bounds=(0.0, 1.0))
+        object_ba, object_ba_ci = _interval(object_fold_scores[name], test_train_ratio, cv - 1, bounds=(0.0, 1.0))
         ok = pred >= 0
         confusion[name] = (confusion_matrix(np.broadcast_to(y, pred.shape)[ok], pred[ok],
                                             labels=np.arange(n_classes)) if ok.any()
@@ -688,9 +587,9 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     base, object_base = fold_scores.get("peak_change"), object_fold_scores.get("peak_change")
     for row in table:
         own = row["pipeline"] == "peak_change"
-        row["vs_baseline"], row["vs_baseline_ci"] = _paired_difference(
+        row["vs_baseline"], row["vs_baseline_ci"] = paired_difference(
             fold_scores[row["pipeline"]], None if own else base, test_train_ratio, cv - 1)
-        row["object_vs_baseline"], row["object_vs_baseline_ci"] = _paired_difference(
+        row["object_vs_baseline"], row["object_vs_baseline_ci"] = paired_difference(
             object_fold_scores[row["pipeline"]], None if own else object_base, test_train_ratio, cv - 1)
     recommended, with_samples = _recommend(table)
     return Bunch(table=table, fold_scores=fold_scores, object_fold_scores=object_fold_scores,
@@ -699,19 +598,6 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
                  target=y, target_names=names, groups=groups, folds=[test for _, test in folds],
                  n_repeats=n_repeats, chance=1.0 / n_classes, hardness_unit=getattr(data, "hardness_unit", None),
                  notes=notes)
-
-
-def _paired_difference(scores, base, test_train_ratio, df):
-    """Mean over folds of ``scores - base`` (same folds) and its corrected 95% t-interval (:func:`_ci95`).
-
-    The interval is clipped to [-1, 1], the range of a difference of balanced accuracies.
-
-    (None, None) without a base.
-    """
-    if base is None:
-        return None, None
-    return _ci95(np.asarray(scores, dtype=float) - np.asarray(base, dtype=float), test_train_ratio, df,
-                 bounds=(-1.0, 1.0))
 
 
 def _recommend(table):
@@ -723,143 +609,3 @@ def _recommend(table):
     return (None if best is None else best["pipeline"]), (None if sampled is None else sampled["pipeline"])
 
 
-def format_evaluation(result):
-    """The table of :func:`evaluate_pipelines` as text.
-
-    Parameters
-    ----------
-    result : Bunch
-        What :func:`evaluate_pipelines` returned.
-
-    Returns
-    -------
-    text : str
-        One line per pipeline: balanced accuracy with its 95% interval over
-        folds, hardness MAE, time, and the margin over the one-number
-        baseline; then the balanced accuracy and margin per object (where
-        some object has several presses), each pipeline's recall per class,
-        the notes on the presses (``notes``: contact found, the optical
-        flow's corners, loading phases missing) and the recommendation.
-    """
-    n_folds = result.table[0]["n_folds"] if result.table else 0
-    n_repeats = getattr(result, "n_repeats", 1)
-    repeats = f" x {n_repeats} repetitions" if n_repeats > 1 else ""
-    lines = [f"object-disjoint {n_folds}-fold CV{repeats}, {len(np.unique(result.groups))} objects, "
-             f"{len(result.target)} presses, chance {result.chance:.2f}; 95% t-intervals corrected for the "
-             "folds' overlapping training sets (Nadeau-Bengio), clipped to the score's range"]
-    width = max([16] + [len(str(r["pipeline"])) for r in result.table])  # long names keep the columns
-    lines.append(f"{'pipeline':<{width}} {'bal. accuracy [95% CI]':<24} {'MAE':>6} {'vs peak [95% CI]':>22} "
-                 f"{'time s':>8}")
-    for r in result.table:
-        mae = "-" if r["mae"] is None else f"{r['mae']:.2f}"
-        lines.append(f"{_score_cells(r, width)} {mae:>6} {_margin_cell(r)} {r['fit_predict_seconds']:>8.1f}")
-        if r["error"]:
-            lines.append(f"  error: {r['error']}")
-    lines += _object_lines(result, width)
-    lines += _recall_lines(result, width)
-    lines += [f"data: {note}" for note in getattr(result, "notes", ())]
-    lines += _recommendation_lines(result)
-    return "\n".join(lines)
-
-
-def _object_lines(result, width):
-    """Balanced accuracy over the test objects, each classed by the mean of its presses' probabilities.
-
-    Nothing when every object has one press (the figures are those above).
-    """
-    rows = [r for r in result.table if r.get("object_balanced_accuracy") is not None]
-    _, presses = np.unique(result.groups, return_counts=True)
-    if not rows or presses.max() == 1:
-        return []
-    lines = [f"per object: each test object classed by the mean of its presses' predicted probabilities "
-             f"(their votes without predict_proba; {len(presses)} objects, median {np.median(presses):g} "
-             "presses each); same folds and intervals"]
-    for r in rows:
-        lines.append(f"{_score_cells(r, width, 'object_')} {'':>6} {_margin_cell(r, 'object_')}".rstrip())
-    return lines
-
-
-def _score_cells(row, width, prefix=""):
-    """The pipeline's name and its balanced accuracy with the 95% interval (``prefix``: ``"object_"`` per object)."""
-    lo, hi = row[f"{prefix}balanced_accuracy_ci"]
-    return f"{row['pipeline']:<{width}} {row[f'{prefix}balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]{'':<7}"
-
-
-def _margin_cell(row, prefix=""):
-    """The margin over the one-number baseline with its 95% interval, blank for the baseline itself."""
-    delta = ""
-    if row.get(f"{prefix}vs_baseline") is not None:
-        d_lo, d_hi = row[f"{prefix}vs_baseline_ci"]
-        delta = f"{row[f'{prefix}vs_baseline']:+.2f} [{d_lo:+.2f}, {d_hi:+.2f}]"
-    return f"{delta:>22}"
-
-
-def _recall_lines(result, width):
-    """Recall of each class per pipeline, over the out-of-fold predictions (the confusion matrices' diagonals)."""
-    rows = [r for r in result.table if r.get("recall")]
-    if not rows:
-        return []
-    names = [str(n) for n in result.target_names]
-    lines = [f"recall per class, out of fold ({' / '.join(names)}):"]
-    for r in rows:
-        values = " / ".join("-" if r["recall"].get(n) is None else f"{r['recall'][n]:.2f}" for n in names)
-        lines.append(f"{r['pipeline']:<{width}} {values}")
-    return lines
-
-
-def _recommendation_lines(result):
-    """What the table says to choose (the rule of :func:`evaluate_pipelines`'s ``recommended``)."""
-    rows = [r for r in result.table if r.get("vs_baseline_ci") is not None]
-    if not rows:
-        return []
-    lines = ["vs peak: each fold's balanced accuracy minus the one-number baseline's, mean over folds and "
-             "its corrected 95% t-interval."]
-    best, sampled = getattr(result, "recommended", None), getattr(result, "recommended_with_samples", None)
-    if best is None:
-        lines.append("No pipeline is above the one-number baseline beyond the spread of the folds (every "
-                     "interval includes 0 or lies below): on these objects peak_change does as well; more "
-                     "objects narrow the intervals.")
-        return lines
-    lines.append(f"Choose {best}: the highest balanced accuracy among the pipelines above the baseline.")
-    if sampled is not None and sampled != best:
-        lines.append(f"For active sampling (predict_proba_samples): {sampled}.")
-    elif sampled == best:
-        lines.append(f"{best} has predict_proba_samples: it drives active sampling too.")
-    elif sampled is None:
-        lines.append("No pipeline above the baseline has predict_proba_samples for active sampling.")
-    return lines
-
-
-def plot_confusion_matrices(result, path=None):
-    """Row-normalised confusion matrices of :func:`evaluate_pipelines`, one panel per pipeline.
-
-    Parameters
-    ----------
-    result : Bunch
-        What :func:`evaluate_pipelines` returned.
-    path : str, path-like or None, default=None
-        Also save the figure there (PNG).
-
-    Returns
-    -------
-    fig : matplotlib.figure.Figure
-    """
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    names = list(result.confusion)
-    fig, axes = plt.subplots(1, len(names), figsize=(3.6 * len(names), 3.4), squeeze=False)
-    for ax, (name, row) in zip(axes[0], zip(names, result.table)):
-        cm = result.confusion[name].astype(float)
-        cm = cm / np.maximum(cm.sum(axis=1, keepdims=True), 1)
-        ConfusionMatrixDisplay(cm, display_labels=result.target_names).plot(
-            ax=ax, colorbar=False, values_format=".2f")
-        ax.set_title(f"{name}\nbal. acc. {row['balanced_accuracy']:.2f}")
-    fig.tight_layout()
-    if path is not None:
-        Path(path).parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, dpi=100)
-    return fig

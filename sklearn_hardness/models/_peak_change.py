@@ -1,7 +1,7 @@
 """The one-number baseline: the peak change of a press video to its first frame.
 
 What a first look at a press gives, and what every pipeline is measured
-against (:func:`~sklearn_hardness.experiments.evaluate_pipelines` runs it
+against (:func:`~sklearn_hardness.model_selection.evaluate_pipelines` runs it
 beside them): :func:`peak_contact_change` turns a video into one number,
 :func:`make_peak_change_baseline` classifies with it.
 """
@@ -42,7 +42,7 @@ def peak_contact_change(videos, roi=None):
     Examples
     --------
     >>> import numpy as np
-    >>> from sklearn_hardness.experiments import peak_contact_change
+    >>> from sklearn_hardness.models import peak_contact_change
     >>> video = np.full((4, 16, 16, 3), 100, np.uint8)
     >>> video[3, :4, :4] = 116
     >>> peak_contact_change([video]).round(3).tolist()
@@ -79,7 +79,7 @@ def make_peak_change_baseline(class_weight="balanced", roi=None):
 
     Examples
     --------
-    >>> from sklearn_hardness.experiments import make_peak_change_baseline
+    >>> from sklearn_hardness.models import make_peak_change_baseline
     >>> [name for name, _ in make_peak_change_baseline().steps]
     ['functiontransformer', 'standardscaler', 'logisticregression']
     """

@@ -1,0 +1,211 @@
+"""The named pipelines: one table of name -> builder, what it reads and what it gives.
+
+Every part of the library that builds a pipeline by name goes through this
+table: :func:`sklearn_hardness.models.make_named_pipeline` (users),
+:func:`~sklearn_hardness.model_selection.evaluate_pipelines`, the paper's
+experiments (``reproduce``) and the command line, which builds its ``--help``
+from it. A name is one model everywhere; two variants of a model are two names.
+
+The builders are named by module and function, imported only when a pipeline is
+built, so that this module needs nothing beyond the standard library (the
+command line's ``--help`` stays fast).
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass, field
+
+#: The ContactProfileFeatures of ``"contact_profile_3"``: the video's readings of the depth, the loading
+#: time and the size of the contact (the quantities of the simulator's ideal reader of the gel).
+CONTACT_PROFILE_3_FEATURES = ("log_peak_change", "log_loading_time", "log_contact_spread")
+
+_PIPELINES = "sklearn_hardness.models._pipelines"
+
+
+@dataclass(frozen=True)
+class PipelineInfo:
+    """What a named pipeline reads and gives (:func:`sklearn_hardness.models.pipeline_info`).
+
+    Attributes
+    ----------
+    name : str
+        The pipeline's name.
+    input : {"video", "force_position"}
+        ``"video"``: a sequence of press videos; ``"force_position"``: each
+        press's force and sensor position per frame, shape ``(T, 2)``.
+    samples : bool
+        Whether the pipeline has ``predict_proba_samples`` (so it can drive
+        active sampling).
+    random : bool
+        Whether fitting it is random (a net's weights, shuffling, dropout), so
+        that ``random_state`` seeds it; pipelines with nothing random ignore it.
+    summary : str
+        One line on what the pipeline is.
+    """
+
+    name: str
+    input: str
+    samples: bool
+    random: bool
+    summary: str
+
+
+@dataclass(frozen=True)
+class _Entry:
+    info: PipelineInfo
+    module: str
+    function: str
+    fixed: dict = field(default_factory=dict)  # the builder's arguments that make the name's model
+
+
+def _entry(name, module, function, fixed=None, *, input="video", samples=True, random=True, summary):
+    return name, _Entry(PipelineInfo(name, input, samples, random, summary), module, function, dict(fixed or {}))
+
+
+#: Name -> entry, in the order the names are listed.
+_REGISTRY = dict([
+    _entry("peak_change", "sklearn_hardness.models._peak_change", "make_peak_change_baseline",
+           samples=False, random=False,
+           summary="the one-number baseline: peak change to the first frame + balanced logistic regression"),
+    _entry("contact_profile", _PIPELINES, "make_contact_profile_pipeline", {"head": "logistic"}, random=False,
+           summary="contact-profile features of the whole video + logistic regression (Laplace posterior samples)"),
+    _entry("contact_profile_3", _PIPELINES, "make_contact_profile_pipeline",
+           {"head": "logistic", "features": CONTACT_PROFILE_3_FEATURES}, random=False,
+           summary="contact_profile with three features: log_peak_change, log_loading_time, log_contact_spread"),
+    _entry("contact_profile_nn", _PIPELINES, "make_contact_profile_pipeline", {"head": "nn"},
+           summary="contact-profile features of the whole video + an MC-dropout MLP"),
+    _entry("convlstm", _PIPELINES, "make_convlstm_pipeline", {"intensity_channels": False},
+           summary="the paper's ConvLSTM on the selected contact frames alone"),
+    _entry("convlstm_intensity", _PIPELINES, "make_convlstm_pipeline", {"intensity_channels": True},
+           summary="the ConvLSTM on the selected frames + intensity channels (for objects not seen in training)"),
+    _entry("ofnn", _PIPELINES, "make_ofnn_pipeline", {"flow_output": "tracks"},
+           summary="the paper's OFNN: flattened Lucas-Kanade corner tracks + an MC-dropout MLP"),
+    _entry("ofnn_quantiles", _PIPELINES, "make_ofnn_pipeline", {"flow_output": "magnitude_quantiles"},
+           summary="OFNN on quantiles of the corners' displacement magnitudes + an MC-dropout MLP"),
+    _entry("dinov2nn", _PIPELINES, "make_dinov2nn_pipeline",
+           summary="the paper's DINOv2NN: frozen DINOv2 features of the selected frames + an MC-dropout MLP"),
+    _entry("loading_compliance", _PIPELINES, "make_loading_compliance_pipeline", input="force_position",
+           random=False,
+           summary="each press's force and position (no video): Hertz compliance + logistic regression"),
+])
+
+#: Every name, in the table's order.
+PIPELINE_NAMES = tuple(_REGISTRY)
+
+#: What ``evaluate`` runs by default (beside the baseline; and ``"loading_compliance"`` where every
+#: press has force and position).
+DEFAULT_PIPELINES = ("contact_profile", "contact_profile_nn", "convlstm_intensity", "ofnn_quantiles")
+
+#: The names the paper's experiments (``reproduce --model``, ``model=``) can run: their runner trains the
+#: pipeline's last step on inputs prepared once per dataset.
+EXPERIMENT_MODELS = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn", "contact_profile", "contact_profile_3",
+                     "loading_compliance")
+
+
+def _check_name(name):
+    if not isinstance(name, str) or name not in _REGISTRY:
+        raise ValueError(f"unknown pipeline name {name!r}; the names are {list(PIPELINE_NAMES)}.")
+    return _REGISTRY[name]
+
+
+def pipeline_names(input=None):
+    """The names of the ready-made pipelines.
+
+    Parameters
+    ----------
+    input : {"video", "force_position"} or None, default=None
+        Only the pipelines that read this input; None: all.
+
+    Returns
+    -------
+    names : tuple of str
+
+    Examples
+    --------
+    >>> from sklearn_hardness.models import pipeline_names
+    >>> pipeline_names(input="force_position")
+    ('loading_compliance',)
+    """
+    if input not in (None, "video", "force_position"):
+        raise ValueError(f"input must be 'video', 'force_position' or None, got {input!r}.")
+    return tuple(name for name, entry in _REGISTRY.items() if input is None or entry.info.input == input)
+
+
+def pipeline_info(name):
+    """What the named pipeline reads and gives.
+
+    Parameters
+    ----------
+    name : str
+        One of :func:`pipeline_names`.
+
+    Returns
+    -------
+    info : PipelineInfo
+        A frozen record with ``name``, ``input`` (``"video"`` or
+        ``"force_position"``), ``samples`` (whether it has
+        ``predict_proba_samples``), ``random`` (whether ``random_state``
+        seeds it) and ``summary``.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.models import pipeline_info
+    >>> info = pipeline_info("convlstm")
+    >>> info.input, info.samples, info.random
+    ('video', True, True)
+    """
+    return _check_name(name).info
+
+
+def builder(name):
+    """The builder function of a named pipeline and the arguments that make the name's model."""
+    entry = _check_name(name)
+    return getattr(importlib.import_module(entry.module), entry.function), dict(entry.fixed)
+
+
+def make_named_pipeline(name, *, random_state=None, **params):
+    """A fresh, unfitted pipeline known by name.
+
+    Parameters
+    ----------
+    name : str
+        One of :func:`pipeline_names`.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the nets' initial weights, shuffling and dropout. Ignored by the
+        pipelines with nothing random to seed (``pipeline_info(name).random``
+        is False).
+    **params
+        Passed to the pipeline's builder (its ``make_*_pipeline`` factory),
+        e.g. ``roi=`` for the video pipelines, ``max_epochs=`` for a net. The
+        arguments that make the name's model (``intensity_channels`` of
+        ``"convlstm"``, ``flow_output`` of ``"ofnn"``, ...) are fixed: another
+        variant is another name.
+
+    Returns
+    -------
+    estimator : Pipeline
+
+    Raises
+    ------
+    ValueError
+        An unknown name (the message lists the names).
+    TypeError
+        A parameter fixed by the name.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.models import make_named_pipeline
+    >>> pipe = make_named_pipeline("convlstm_intensity", random_state=0)
+    >>> [step for step, _ in pipe.steps]
+    ['frames', 'scale', 'intensity', 'clf']
+    """
+    function, fixed = builder(name)
+    clash = sorted(set(params) & set(fixed))
+    if clash:
+        others = [n for n, e in _REGISTRY.items() if e.function == _REGISTRY[name].function and n != name]
+        raise TypeError(f"{clash} are fixed by the name {name!r} ({fixed}); the other variants are other names "
+                        f"({others}), or call {function.__name__} yourself.")
+    if random_state is not None and _REGISTRY[name].info.random:
+        params["random_state"] = random_state
+    return function(**fixed, **params)
