@@ -11,6 +11,7 @@
   robot's force and position per frame, where they are recorded.
 """
 
+from ._contact_geometry import ContactGeometryFeatures, make_contact_geometry_pipeline  # noqa: F401
 from ._contact_profile import ContactProfileFeatures
 from ._dinov2 import DINOv2Features
 from ._loading_compliance import LoadingCompliance
