@@ -73,6 +73,9 @@ _REGISTRY = dict([
     _entry("contact_profile_3", _PIPELINES, "make_contact_profile_pipeline",
            {"head": "logistic", "features": CONTACT_PROFILE_3_FEATURES}, random=False,
            summary="contact_profile with three features: log_peak_change, log_loading_time, log_contact_spread"),
+    _entry("contact_geometry", _PIPELINES, "make_contact_geometry_pipeline", {"head": "logistic"}, random=False,
+           summary="contact geometry from the gel's shading (twelve scale-free features) + logistic regression "
+                   "(Laplace posterior samples)"),
     _entry("contact_profile_nn", _PIPELINES, "make_contact_profile_pipeline", {"head": "nn"},
            summary="contact-profile features of the whole video + an MC-dropout MLP"),
     _entry("convlstm", _PIPELINES, "make_convlstm_pipeline", {"intensity_channels": False},
@@ -100,7 +103,7 @@ DEFAULT_PIPELINES = ("contact_profile", "contact_profile_nn", "convlstm_intensit
 #: The names the paper's experiments (``reproduce --model``, ``model=``) can run: their runner trains the
 #: pipeline's last step on inputs prepared once per dataset.
 EXPERIMENT_MODELS = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn", "contact_profile", "contact_profile_3",
-                     "loading_compliance")
+                     "contact_geometry", "loading_compliance")
 
 
 def _check_name(name):

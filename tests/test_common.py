@@ -45,7 +45,8 @@ from sklearn.utils import get_tags
 from sklearn.utils import estimator_checks as ec
 
 from sklearn_hardness.active import ActiveLearner
-from sklearn_hardness.features import ContactProfileFeatures, DINOv2Features, LoadingCompliance, OpticalFlowFeatures
+from sklearn_hardness.features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, LoadingCompliance,
+                                       OpticalFlowFeatures)
 from sklearn_hardness.models import (
     ContactProfileNNClassifier,
     ConvLSTMClassifier,
@@ -88,6 +89,7 @@ ESTIMATORS = {
     "FrameScaler": (FrameScaler, "frames"),
     "IntensityChannels": (IntensityChannels, "frames"),
     "ContactProfileFeatures": (lambda: ContactProfileFeatures(), "videos"),
+    "ContactGeometryFeatures": (lambda: ContactGeometryFeatures(max_side=40), "videos"),
     "LoadingCompliance": (LoadingCompliance, "force_position"),
     "OFNNClassifier": (_ofnn, "table"),
     "DINOv2NNClassifier": (
@@ -287,6 +289,8 @@ def test_video_checks(name, factory, data, check):
 FEATURE_SUBSETS = {
     "ContactProfileFeatures(features=2)": (
         lambda: ContactProfileFeatures(features=("log_loading_time", "log_peak_change")), "videos"),
+    "ContactGeometryFeatures(features=scale_free)": (
+        lambda: ContactGeometryFeatures(features="scale_free", max_side=40), "videos"),
     "LoadingCompliance(features=2)": (
         lambda: LoadingCompliance(features=("travel", "hertz_compliance")), "force_position"),
 }

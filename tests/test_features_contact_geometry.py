@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 from sklearn.base import clone
 
-from sklearn_hardness.features import ContactGeometryFeatures, make_contact_geometry_pipeline
+from sklearn_hardness.features import ContactGeometryFeatures
+from sklearn_hardness.models import make_contact_geometry_pipeline
 from sklearn_hardness.features._contact_geometry import FEATURE_NAMES, SCALE_FREE
 
 H, W = 60, 80
@@ -170,7 +171,9 @@ def test_pipeline_has_posterior_samples():
     pipe = make_contact_geometry_pipeline(features=["edge_sharpness", "shoulder_ratio"]).fit(videos, y)
     assert (pipe.predict(videos) == y).all()
     assert pipe.predict_proba_samples(videos[:3], n_samples=4, random_state=0).shape == (4, 3, 2)
-    both = make_contact_geometry_pipeline(with_profile=True).fit(videos, y)
+    assert make_contact_geometry_pipeline().fit(videos, y).named_steps["scale"].n_features_in_ == len(SCALE_FREE)
+    assert ContactGeometryFeatures(features="scale_free").fit(videos).get_feature_names_out().tolist() == list(SCALE_FREE)
+    both = make_contact_geometry_pipeline(features="all", with_profile=True).fit(videos, y)
     assert both.named_steps["scale"].n_features_in_ == len(FEATURE_NAMES) + 12
     with pytest.raises(ValueError, match="head"):
         make_contact_geometry_pipeline(head="svm")

@@ -290,7 +290,8 @@ _LATER_KEYS = {"n_ensemble": 0, "device": "cpu", "early_stopping": None, "crop_c
 #: check_config wrote the size out and the ConvLSTM's default became 12x16): hashed as None,
 #: so results files made then stay resumable under the same frames.
 _SIZES_HASHED_AS_NONE = {"convlstm": (18, 24), "ofnn": (120, 160), "dinov2nn": (112, 150), "contact_profile_nn": None,
-                         "contact_profile": None, "contact_profile_3": None, "loading_compliance": None}
+                         "contact_profile": None, "contact_profile_3": None, "contact_geometry": None,
+                         "loading_compliance": None}
 
 
 def config_hash(config):

@@ -22,7 +22,8 @@ from tqdm.auto import tqdm
 
 from ..datasets import load_press_videos, make_presses
 from ..datasets._lazy import raise_unreadable
-from ..features import ContactProfileFeatures, DINOv2Features, LoadingCompliance, OpticalFlowFeatures
+from ..features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, LoadingCompliance,
+                        OpticalFlowFeatures)
 from ..models._pipelines import _log_positive
 from ..preprocessing import ContactFrameSelector
 from ..utils._validation import rename_videos
@@ -133,6 +134,10 @@ def _features(frames, feature_params):
 
 def _video_inputs(videos, frame_params, feature_params, verbose, n_jobs):
     """One row per press from its video: the contact profile, or selected frames and their features."""
+    if frame_params is None and feature_params["kind"] == "contact_geometry":  # whole videos too
+        step = ContactGeometryFeatures(max_side=feature_params["max_side"], features=feature_params["features"],
+                                       n_jobs=n_jobs)
+        return step.fit_transform(videos).astype(np.float32)
     if frame_params is None:  # contact_profile(_nn, _3): features of the whole videos, no frame selection
         step = ContactProfileFeatures(max_side=feature_params["max_side"],
                                       features=feature_params.get("features", "all"), n_jobs=n_jobs)

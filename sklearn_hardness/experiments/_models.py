@@ -23,7 +23,8 @@ from sklearn.pipeline import Pipeline
 
 from .._registry import EXPERIMENT_MODELS, builder, make_named_pipeline, pipeline_info
 from .. import models
-from ..features import ContactProfileFeatures, DINOv2Features, LoadingCompliance, OpticalFlowFeatures
+from ..features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, LoadingCompliance,
+                        OpticalFlowFeatures)
 from ..models._callbacks import EarlyStoppingAfterFirstFit
 from ..models._pipelines import FrameScaler
 from ..utils._random import set_random_states
@@ -141,6 +142,9 @@ def feature_params(cfg, model):
         if step.features != "all":  # the key of all twelve stays that of the inputs cached before features=
             params["features"] = list(step.features)
         return params
+    if isinstance(step, ContactGeometryFeatures):
+        return {"kind": "contact_geometry", "max_side": int(step.max_side),
+                "features": step.features if isinstance(step.features, str) else list(step.features)}
     if isinstance(step, LoadingCompliance):
         return {"kind": "loading_compliance", "features": list(step.features), "onset": float(step.onset),
                 "drive_compliance": float(step.drive_compliance)}

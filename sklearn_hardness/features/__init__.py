@@ -5,16 +5,25 @@
 - :class:`DINOv2Features`: frozen DINOv2 embeddings of every frame,
   concatenated, the input of the paper's DINOv2NN (needs the optional
   ``transformers`` dependency: ``pip install sklearn-hardness[dinov2]``).
+- :class:`ContactGeometryFeatures`: the contact's depth, edges, shape and
+  texture over the loading phase, read from the gel's shading (``features="scale_free"``:
+  those that do not grow with how hard the press is made).
 - :class:`ContactProfileFeatures`: shape- and texture-normalised features of
   a whole press video's loading phase.
 - :class:`LoadingCompliance`: the compliance of gel and object from the
   robot's force and position per frame, where they are recorded.
 """
 
-from ._contact_geometry import ContactGeometryFeatures, make_contact_geometry_pipeline  # noqa: F401
+from ._contact_geometry import ContactGeometryFeatures
 from ._contact_profile import ContactProfileFeatures
 from ._dinov2 import DINOv2Features
 from ._loading_compliance import LoadingCompliance
 from ._optical_flow import OpticalFlowFeatures
 
-__all__ = ["ContactProfileFeatures", "DINOv2Features", "LoadingCompliance", "OpticalFlowFeatures"]
+__all__ = [
+    "ContactGeometryFeatures",
+    "ContactProfileFeatures",
+    "DINOv2Features",
+    "LoadingCompliance",
+    "OpticalFlowFeatures",
+]

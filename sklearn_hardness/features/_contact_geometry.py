@@ -9,7 +9,7 @@ the chromatic part of the change) and an approximate depth (their
 Frankot-Chellappa integration), and summarises, at four moments of the
 loading phase, the contact's depth, area, edge sharpness, spread and
 texture, and how they grow against each other.
-:func:`make_contact_geometry_pipeline` puts a classifier after it.
+:func:`~sklearn_hardness.models.make_contact_geometry_pipeline` puts a classifier after it.
 """
 
 from __future__ import annotations
@@ -20,7 +20,6 @@ import cv2
 import numpy as np
 from joblib import Parallel, delayed
 from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
-from sklearn.preprocessing import StandardScaler
 from sklearn.utils._param_validation import Interval
 from sklearn.utils.validation import check_is_fitted
 
@@ -30,7 +29,7 @@ from ..utils._validation import check_roi, check_video, check_video_sequence, ro
 from ._common import check_feature_names, feature_columns
 from ._contact_profile import _n_precontact
 
-__all__ = ["ContactGeometryFeatures", "make_contact_geometry_pipeline"]
+__all__ = ["ContactGeometryFeatures"]
 
 #: Loading moments, as fractions of the rise of the contact's change from its pre-contact level to its peak.
 MOMENTS = (0.25, 0.5, 0.75, 1.0)
@@ -351,10 +350,12 @@ class ContactGeometryFeatures(TransformerMixin, BaseEstimator):
 
     Parameters
     ----------
-    features : "all" or sequence of str, default="all"
+    features : "all", "scale_free" or sequence of str, default="all"
         Which features to output, in this order (names as in
         :meth:`get_feature_names_out`); every feature is computed either
-        way.
+        way. ``"scale_free"``: the twelve that do not grow with how hard
+        the press is made (shapes, ratios and growth slopes), the input of
+        :func:`~sklearn_hardness.models.make_contact_geometry_pipeline`.
     max_side : int, default=80
         Frames are block-averaged to about this many pixels on their long
         side (a 240x320 frame to 60x80).
@@ -438,11 +439,13 @@ class ContactGeometryFeatures(TransformerMixin, BaseEstimator):
         -------
         self : ContactGeometryFeatures
         """
-        if isinstance(self.features, str) and self.features != "all":
-            raise ValueError(f"features must be 'all' or a sequence of feature names, got {self.features!r}.")
+        if isinstance(self.features, str) and self.features not in ("all", "scale_free"):
+            raise ValueError(
+                f"features must be 'all', 'scale_free' or a sequence of feature names, got {self.features!r}.")
         check_roi(self.roi)
         check_video_sequence(X)
-        self.features_ = check_feature_names(self.features, FEATURE_NAMES)
+        self.features_ = check_feature_names(SCALE_FREE if self.features == "scale_free" else self.features,
+                                             FEATURE_NAMES)
         self.n_features_out_ = len(self.features_)
         return self
 
@@ -483,63 +486,3 @@ class ContactGeometryFeatures(TransformerMixin, BaseEstimator):
 
     def __sklearn_tags__(self):
         return videos_tags(super().__sklearn_tags__())
-
-
-def make_contact_geometry_pipeline(*, head="logistic", features="all", with_profile=False, max_side=80, roi=None,
-                                   **classifier_params):
-    """Videos -> :class:`ContactGeometryFeatures` (and optionally the contact profile) -> scaler -> classifier.
-
-    Parameters
-    ----------
-    head : {"logistic", "nn"}, default="logistic"
-        ``"logistic"``: balanced :class:`~sklearn_hardness.models.LaplaceLogisticRegression`
-        (``predict_proba_samples`` from its Laplace posterior);
-        ``"nn"``: :class:`~sklearn_hardness.models.ContactProfileNNClassifier`
-        (an MLP with MC dropout). Either way the pipeline has
-        ``predict_proba_samples`` and can drive active sampling.
-    features : "all" or sequence of str, default="all"
-        ``features`` of :class:`ContactGeometryFeatures`.
-    with_profile : bool, default=False
-        Also read the twelve
-        :class:`~sklearn_hardness.features.ContactProfileFeatures` (a
-        :class:`~sklearn.pipeline.FeatureUnion` of the two).
-    max_side : int, default=80
-        ``max_side`` of the feature transformers.
-    roi : tuple (top, bottom, left, right) or None, default=None
-        ``roi`` of the feature transformers.
-    **classifier_params
-        Passed to the head; ``class_weight`` defaults to ``"balanced"``
-        (and the logistic head's ``max_iter`` to 2000).
-
-    Returns
-    -------
-    pipeline : :class:`~sklearn_hardness.models.MCDropoutPipeline`
-        Steps ``"features"``, ``"scale"``, ``"clf"``.
-
-    Examples
-    --------
-    >>> from sklearn_hardness.features import make_contact_geometry_pipeline
-    >>> pipe = make_contact_geometry_pipeline(features=["log_depth", "area_depth_slope"])
-    >>> [name for name, _ in pipe.steps]
-    ['features', 'scale', 'clf']
-    """
-    from sklearn.pipeline import FeatureUnion
-
-    from ..models import ContactProfileNNClassifier, LaplaceLogisticRegression, MCDropoutPipeline
-    from ._contact_profile import ContactProfileFeatures
-
-    if head not in ("logistic", "nn"):
-        raise ValueError(f"head must be 'logistic' or 'nn', got {head!r}.")
-    params = {"class_weight": "balanced", **classifier_params}
-    if head == "logistic":
-        params.setdefault("max_iter", 2000)
-        clf = LaplaceLogisticRegression(**params)
-    else:
-        clf = ContactProfileNNClassifier(**params)
-    geometry = ContactGeometryFeatures(features=features, max_side=max_side, roi=roi)
-    if with_profile:
-        step = FeatureUnion([("geometry", geometry),
-                             ("profile", ContactProfileFeatures(max_side=max_side, roi=roi))])
-    else:
-        step = geometry
-    return MCDropoutPipeline([("features", step), ("scale", StandardScaler()), ("clf", clf)])

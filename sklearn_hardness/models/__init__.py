@@ -30,6 +30,7 @@ from ._laplace import LaplaceLogisticRegression
 from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
 from ._pipelines import (
     MCDropoutPipeline,
+    make_contact_geometry_pipeline,
     make_contact_profile_pipeline,
     make_convlstm_pipeline,
     make_dinov2nn_pipeline,
@@ -49,6 +50,7 @@ __all__ = [
     "make_ofnn_pipeline",
     "make_dinov2nn_pipeline",
     "make_contact_profile_pipeline",
+    "make_contact_geometry_pipeline",
     "make_loading_compliance_pipeline",
     "FrameAugmenter",
     "MCDropoutPipeline",

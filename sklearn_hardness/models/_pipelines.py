@@ -14,12 +14,13 @@ from __future__ import annotations
 import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.impute import SimpleImputer
-from sklearn.pipeline import Pipeline
+from sklearn.pipeline import FeatureUnion, Pipeline
 from sklearn.preprocessing import FunctionTransformer, StandardScaler
 from sklearn.utils.metaestimators import available_if
 from sklearn.utils.validation import check_is_fitted
 
-from ..features import ContactProfileFeatures, DINOv2Features, LoadingCompliance, OpticalFlowFeatures
+from ..features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, LoadingCompliance,
+                        OpticalFlowFeatures)
 from ..preprocessing import ContactFrameSelector
 from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
@@ -36,6 +37,7 @@ __all__ = [
     "make_ofnn_pipeline",
     "make_dinov2nn_pipeline",
     "make_contact_profile_pipeline",
+    "make_contact_geometry_pipeline",
     "make_loading_compliance_pipeline",
 ]
 
@@ -499,3 +501,62 @@ def make_loading_compliance_pipeline(*, features=("hertz_compliance",), onset=0.
         ("scale", StandardScaler()),
         ("clf", clf),
     ])
+
+
+def make_contact_geometry_pipeline(*, head="logistic", features="scale_free", with_profile=False, max_side=80, roi=None,
+                                   **classifier_params):
+    """Videos -> :class:`~sklearn_hardness.features.ContactGeometryFeatures` (and optionally the contact profile) -> scaler -> classifier.
+
+    Parameters
+    ----------
+    head : {"logistic", "nn"}, default="logistic"
+        ``"logistic"``: balanced :class:`~sklearn_hardness.models.LaplaceLogisticRegression`
+        (``predict_proba_samples`` from its Laplace posterior);
+        ``"nn"``: :class:`~sklearn_hardness.models.ContactProfileNNClassifier`
+        (an MLP with MC dropout). Either way the pipeline has
+        ``predict_proba_samples`` and can drive active sampling.
+    features : "all", "scale_free" or sequence of str, default="scale_free"
+        ``features`` of :class:`~sklearn_hardness.features.ContactGeometryFeatures`;
+        by default the twelve that do not grow with how hard the press is made
+        (shapes, ratios and growth slopes), the
+        choice made on real hand presses of new objects (see
+        ``studies/pages/real_development_objects.md``).
+    with_profile : bool, default=False
+        Also read the twelve
+        :class:`~sklearn_hardness.features.ContactProfileFeatures` (a
+        :class:`~sklearn.pipeline.FeatureUnion` of the two).
+    max_side : int, default=80
+        ``max_side`` of the feature transformers.
+    roi : tuple (top, bottom, left, right) or None, default=None
+        ``roi`` of the feature transformers.
+    **classifier_params
+        Passed to the head; ``class_weight`` defaults to ``"balanced"``
+        (and the logistic head's ``max_iter`` to 2000).
+
+    Returns
+    -------
+    pipeline : :class:`~sklearn_hardness.models.MCDropoutPipeline`
+        Steps ``"features"``, ``"scale"``, ``"clf"``.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.models import make_contact_geometry_pipeline
+    >>> pipe = make_contact_geometry_pipeline(features=["log_depth", "area_depth_slope"])
+    >>> [name for name, _ in pipe.steps]
+    ['features', 'scale', 'clf']
+    """
+    if head not in ("logistic", "nn"):
+        raise ValueError(f"head must be 'logistic' or 'nn', got {head!r}.")
+    params = {"class_weight": "balanced", **classifier_params}
+    if head == "logistic":
+        params.setdefault("max_iter", 2000)
+        clf = LaplaceLogisticRegression(**params)
+    else:
+        clf = ContactProfileNNClassifier(**params)
+    geometry = ContactGeometryFeatures(features=features, max_side=max_side, roi=roi)
+    if with_profile:
+        step = FeatureUnion([("geometry", geometry),
+                             ("profile", ContactProfileFeatures(max_side=max_side, roi=roi))])
+    else:
+        step = geometry
+    return MCDropoutPipeline([("features", step), ("scale", StandardScaler()), ("clf", clf)])
