@@ -19,7 +19,11 @@ import time
 
 import torch
 
-from sklearn_hardness.experiments import STRATEGIES, run_active_sampling
+from sklearn_hardness.experiments import run_active_sampling
+
+#: run_active_sampling's default strategies (the paper's three and BALD).
+STRATEGIES = ("variance", "entropy", "random", "bald")
+
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])

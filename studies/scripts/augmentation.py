@@ -36,7 +36,7 @@ from sim_confounds import recall_per_rank
 from sim_to_real import simulated
 from sim_vs_real_stats import parse_param
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import evaluate_pipelines
+from sklearn_hardness.model_selection import evaluate_pipelines
 from sklearn_hardness.models import make_convlstm_pipeline
 
 

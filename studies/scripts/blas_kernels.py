@@ -32,7 +32,8 @@ from collections import defaultdict
 
 from _output import report
 
-from sklearn_hardness.experiments import parse_provenance
+# private: the provenance line reproduce writes into table.txt, and the results file it resumes from
+from sklearn_hardness.experiments._provenance import parse_provenance
 from sklearn_hardness.experiments._results import ResultsStore
 
 

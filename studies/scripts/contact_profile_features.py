@@ -5,7 +5,7 @@ On the ``everyday`` preset, per seed (object-disjoint 5-fold
 ``sklearn-hardness evaluate everyday --seed SEED``), the balanced accuracy of
 a balanced logistic regression on
 
-- the one number (:func:`~sklearn_hardness.experiments.peak_contact_change`:
+- the one number (:func:`~sklearn_hardness.models.peak_contact_change`:
   the ``peak_change`` baseline of ``evaluate``);
 - the first ten :class:`~sklearn_hardness.features.ContactProfileFeatures`
   (the features before issue 20's loading time and contact spread), all of
@@ -74,10 +74,10 @@ from _memory import peak_rss_mb, reset_peak
 from _output import report
 from _sim_variants import VARIANTS, variant_params
 from sim_vs_real_stats import parse_param, press_objects
-from sklearn_hardness._experiment_names import CONTACT_PROFILE_3_FEATURES
-from sklearn_hardness.experiments._evaluate import _class_proba, _per_object
-from sklearn_hardness.features._common import feature_columns
-from sklearn_hardness.features._contact_profile import FEATURE_NAMES
+from sklearn_hardness.features import ContactProfileFeatures
+# private: evaluate's rule for an object's class from its presses' probabilities
+from sklearn_hardness.model_selection._evaluate import _class_proba, _per_object
+from sklearn_hardness.models import make_named_pipeline
 
 ROWS = ("one number (peak change)", "contact profile, first 10 features", "contact profile, 12 features",
         "contact profile, 3 features: peak change, loading time, spread",
@@ -85,13 +85,15 @@ ROWS = ("one number (peak change)", "contact profile, first 10 features", "conta
 
 #: The video's readings of the ideal reader's three quantities (``features=`` of ContactProfileFeatures):
 #: the features of the named model ``contact_profile_3``.
-THREE = CONTACT_PROFILE_3_FEATURES
+THREE = tuple(make_named_pipeline("contact_profile_3").get_params()["features__features"])
+#: ContactProfileFeatures' columns, in output order (it learns nothing in fit: a blank video gives them).
+FEATURE_NAMES = tuple(ContactProfileFeatures().fit([np.zeros((3, 8, 8, 3), np.uint8)]).get_feature_names_out())
 
 
 def video_features(videos, i):
     """The one number and the contact-profile features of video ``i`` (rendered in the worker)."""
-    from sklearn_hardness.experiments import peak_contact_change
     from sklearn_hardness.features import ContactProfileFeatures
+    from sklearn_hardness.models import peak_contact_change
 
     video = videos[i]
     return np.concatenate([peak_contact_change([video])[0],
@@ -103,6 +105,7 @@ def ideal_features(data):
 
     NaN for presses whose gel is never indented (truncated videos).
     """
+    # private: the simulator's own contact profile and texture (the ideal reader's quantities)
     from sklearn_hardness.datasets._sim_everyday import _profile, _texture
 
     p = data.params
@@ -188,10 +191,11 @@ def net_inputs(videos, n_jobs):
 
 def intensity_statistics(train_frames, frames):
     """Per selected frame, the values of the ConvLSTM pipeline's intensity channels, its scaler fitted on ``train_frames``."""
-    from sklearn_hardness.models import FrameScaler, IntensityChannels
+    from sklearn_hardness.models import make_convlstm_pipeline
 
-    scaler = FrameScaler().fit(train_frames)
-    channels = IntensityChannels().fit_transform(scaler.transform(frames))
+    steps = make_convlstm_pipeline(intensity_channels=True).named_steps  # its FrameScaler and IntensityChannels
+    scaler = steps["scale"].fit(train_frames)
+    channels = steps["intensity"].fit_transform(scaler.transform(frames))
     return channels[:, :, 0, 0, frames.shape[-1]:].reshape(len(frames), -1)  # constant maps: one pixel holds them
 
 
@@ -231,7 +235,7 @@ def run_seed(seed, overrides, n_jobs, with_heads=False, with_net_inputs=False):
         ROWS[0]: press_and_object_scores(V[:, :1], y, groups, folds),
         ROWS[1]: press_and_object_scores(V[:, 1:11], y, groups, folds),
         ROWS[2]: press_and_object_scores(V[:, 1:], y, groups, folds),
-        ROWS[3]: press_and_object_scores(V[:, 1 + np.array(feature_columns(THREE, FEATURE_NAMES))], y, groups, folds),
+        ROWS[3]: press_and_object_scores(V[:, 1 + np.array([FEATURE_NAMES.index(n) for n in THREE])], y, groups, folds),
         ROWS[4]: press_and_object_scores(np.nan_to_num(ideal[:, :3]), y, groups, ideal_folds),
         ROWS[5]: press_and_object_scores(np.nan_to_num(ideal[:, 3:]), y, groups, ideal_folds),
     }

@@ -81,7 +81,7 @@ def main(argv=None):
     ap.add_argument("--n-jobs", type=int, default=2)
     ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
     args = ap.parse_args(argv)
-    from sklearn_hardness.experiments import evaluate_pipelines
+    from sklearn_hardness.model_selection import evaluate_pipelines
 
     from _output import report
 

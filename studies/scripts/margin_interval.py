@@ -56,7 +56,7 @@ from sklearn.utils import Bunch
 
 from _memory import peak_rss_mb
 from _output import report
-from sklearn_hardness.experiments import evaluate_pipelines
+from sklearn_hardness.model_selection import evaluate_pipelines
 
 N_OBJECTS, PER_OBJECT, CV = 42, 4, 5
 

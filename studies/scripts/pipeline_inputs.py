@@ -30,8 +30,6 @@ from sklearn_hardness.datasets import make_presses  # noqa: E402
 from sklearn_hardness.features import OpticalFlowFeatures  # noqa: E402
 from sklearn_hardness.models import (  # noqa: E402
     ConvLSTMClassifier,
-    FrameScaler,
-    IntensityChannels,
     OFNNClassifier,
     make_convlstm_pipeline,
     make_ofnn_pipeline,
@@ -52,8 +50,9 @@ def _variants(videos):
         frames = make_convlstm_pipeline().named_steps["frames"].set_params(n_jobs=2).fit_transform(videos)
         tracks = OpticalFlowFeatures(output="tracks", n_jobs=2).fit_transform(raw)
         quantiles = OpticalFlowFeatures(output="magnitude_quantiles", n_jobs=2).fit_transform(raw)
-    scaled = FrameScaler().fit_transform(frames)
-    channels = IntensityChannels().fit_transform(scaled)
+    convlstm = make_convlstm_pipeline(intensity_channels=True)  # its FrameScaler and IntensityChannels steps
+    scaled = convlstm.named_steps["scale"].fit_transform(frames)
+    channels = convlstm.named_steps["intensity"].fit_transform(scaled)
     return [
         ("ofnn, tracks (paper)", tracks, lambda s: OFNNClassifier(max_epochs=50, random_state=s)),
         ("ofnn, magnitude quantiles", quantiles, lambda s: OFNNClassifier(max_epochs=50, random_state=s)),

@@ -5,7 +5,7 @@ Usage::
     python studies/scripts/real_contact_geometry.py --data MANIFEST [--n-repeats 5] [--n-jobs 1]
 
 Every variant is measured by the same object-disjoint cross-validation
-(:func:`~sklearn_hardness.experiments.evaluate_pipelines`, ``cv=5``,
+(:func:`~sklearn_hardness.model_selection.evaluate_pipelines`, ``cv=5``,
 ``n_repeats`` repetitions, seed 0, corrected Nadeau-Bengio intervals) beside
 ``peak_change`` (the one number) and ``contact_profile``. The variants were
 fixed before this script was written (see the docstring of ``VARIANTS``);
@@ -15,7 +15,7 @@ To keep the run short, each video is decoded once: the geometry rows are
 computed by :class:`~sklearn_hardness.features.ContactGeometryFeatures` on the
 decoded video itself, and the folds read them back from a table (the
 transformer learns nothing in ``fit``, so this gives the scores of the
-pipeline of :func:`~sklearn_hardness.features.make_contact_geometry_pipeline`
+pipeline of :func:`~sklearn_hardness.models.make_contact_geometry_pipeline`
 fold by fold, with one pass of its feature step). The one number and the
 contact profile read the frames strided by 4 (the pixels they read from the
 full frames anyway: both stride a 240x320 frame to 60x80), kept in memory.
@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import argparse
 import hashlib
-import shlex
 import sys
 import time
 
@@ -34,13 +33,23 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.preprocessing import StandardScaler
 from sklearn.utils import Bunch
 
+from _output import header
 from sklearn_hardness.datasets import load_press_videos
-from sklearn_hardness.experiments import evaluate_pipelines, format_evaluation, provenance_header
 from sklearn_hardness.features import ContactGeometryFeatures, ContactProfileFeatures
-from sklearn_hardness.features._contact_geometry import FEATURE_NAMES, SCALE_FREE
-from sklearn_hardness.features._contact_profile import FEATURE_NAMES as PROFILE_NAMES
+from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation
 from sklearn_hardness.models import (ContactProfileNNClassifier, LaplaceLogisticRegression, MCDropoutPipeline,
                                      make_contact_profile_pipeline)
+
+
+def _feature_names(transformer):
+    """The output columns' names of a feature transformer (fitted on a blank video: neither learns in fit)."""
+    return tuple(transformer.fit([np.zeros((3, 8, 8, 3), np.uint8)]).get_feature_names_out())
+
+
+#: Every geometry feature, in output order; the twelve scale-free ones; the twelve contact-profile ones.
+FEATURE_NAMES = _feature_names(ContactGeometryFeatures(features="all"))
+SCALE_FREE = _feature_names(ContactGeometryFeatures(features="scale_free"))
+PROFILE_NAMES = _feature_names(ContactProfileFeatures())
 
 #: name -> (feature columns, head). Declared before measuring: the local depth alone (a one-number
 #: rival of the peak change), all geometry features, the scale-free ones (shapes, ratios, growth slopes
@@ -89,12 +98,10 @@ def main(argv=None):
     parser.add_argument("--n-repeats", type=int, default=5)
     parser.add_argument("--n-jobs", type=int, default=1)
     args = parser.parse_args(argv)
-    command = "python studies/scripts/real_contact_geometry.py " + " ".join(
-        shlex.quote(a) for a in (sys.argv[1:] if argv is None else argv))
-    print(provenance_header(command), flush=True)
+    print(header(sys.argv if argv is None else [sys.argv[0], *argv]), flush=True)
 
     data = load_press_videos(args.data)
-    geometry = ContactGeometryFeatures().fit([np.zeros((3, 8, 8, 3), np.uint8)])
+    geometry = ContactGeometryFeatures(features="all").fit([np.zeros((3, 8, 8, 3), np.uint8)])
     strided, rows, t_geom, t_read = [], [], 0.0, 0.0
     for i in range(len(data.videos)):
         t0 = time.perf_counter()

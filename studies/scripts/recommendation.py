@@ -28,7 +28,7 @@ from _memory import peak_rss_mb
 from _output import report
 from sim_vs_real_stats import parse_param
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import evaluate_pipelines
+from sklearn_hardness.model_selection import evaluate_pipelines
 
 
 def margins(result):

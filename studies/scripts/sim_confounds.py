@@ -48,7 +48,7 @@ from _memory import peak_rss_mb
 from _output import report
 from _sim_variants import VARIANTS
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import evaluate_pipelines
+from sklearn_hardness.model_selection import evaluate_pipelines
 
 def recall_per_rank(confusion):
     """``"0.72 / 0.46 / 0.54"``: the recall of each class (row) of a confusion matrix, in its order."""

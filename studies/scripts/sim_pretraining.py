@@ -53,9 +53,10 @@ from _output import report
 from _sim_variants import VARIANTS, variant_params
 from sim_to_real import named_pipeline
 from training_objects import add_run_arguments, margin_cell, scores, simulated_rows, wedge_rows
-from sklearn_hardness.experiments._per_press import split_per_press
+# private: the per-press prefix of a pipeline, whose rows are computed once per set and cached
+from sklearn_hardness.model_selection._per_press import split_per_press
 
-PIPELINES = ("peak_change", "contact_profile", "convlstm")
+PIPELINES = ("peak_change", "contact_profile", "convlstm_intensity")
 
 
 def parse_fine_tune(text):
@@ -80,7 +81,7 @@ def pretrain(net_seed, train, threads):
     import torch
 
     torch.set_num_threads(threads)
-    _, rest = split_per_press(named_pipeline("convlstm", net_seed))
+    _, rest = split_per_press(named_pipeline("convlstm_intensity", net_seed))
     reset_peak()
     t0 = time.perf_counter()
     with warnings.catch_warnings():
@@ -145,7 +146,7 @@ def main(argv=None):
     n_workers = effective_n_jobs(args.n_jobs)
     threads = max(1, (os.cpu_count() or 1) // n_workers)
 
-    train = (np.concatenate([source[s][2]["convlstm"] for s in args.source_seeds]),
+    train = (np.concatenate([source[s][2]["convlstm_intensity"] for s in args.source_seeds]),
              np.concatenate([source[s][0] for s in args.source_seeds]))
     pretrained, pretrain_s, rss = {}, [], []
     for net_seed, rest, seconds, peak in Parallel(n_jobs=args.n_jobs)(
@@ -166,7 +167,7 @@ def main(argv=None):
         for name in ("peak_change", "contact_profile"):  # no seed to vary
             jobs.append((v, name, name, 0, None, None, on[name], tests[name], views[name]))
         for s in args.net_seeds:
-            c = "convlstm"
+            c = "convlstm_intensity"
             jobs.append((v, "convlstm, target set only", c, s, None, None, on[c], tests[c], views[c]))
             jobs.append((v, "convlstm, pretrained only", c, s, pretrained[s], None, on[c], tests[c], views[c]))
             for setting in args.fine_tune:

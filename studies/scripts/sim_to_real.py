@@ -1,7 +1,7 @@
 """Study: pipelines trained only on simulated presses, ordering real objects by softness.
 
 Trains the ready-made pipelines of ``evaluate`` (``peak_change``,
-``contact_profile``, ``contact_profile_3``, ``contact_profile_nn``, ``convlstm``, ``ofnn``) on
+``contact_profile``, ``contact_profile_3``, ``contact_profile_nn``, ``convlstm_intensity``, ``ofnn_quantiles``) on
 ``make_presses("everyday")``
 and predicts every real GelSight Wedge grasp of ``GelSight-lab/EstimateModulus``
 (``--data``: its ``example_data`` folder, kept locally, never committed; see
@@ -71,10 +71,10 @@ def simulated(seed, stride=2, cache=None, **params):
 
 
 def named_pipeline(name, seed):
-    """The pipeline ``evaluate`` runs under ``name``."""
-    from sklearn_hardness.experiments._evaluate import _named_pipeline
+    """The pipeline ``evaluate`` runs under ``name`` (:func:`~sklearn_hardness.models.make_named_pipeline`)."""
+    from sklearn_hardness.models import make_named_pipeline
 
-    return _named_pipeline(name, seed)
+    return make_named_pipeline(name, random_state=seed)
 
 
 def order_report(name, est, real, hardness):
@@ -147,7 +147,7 @@ def main():
     parser.add_argument("--data", required=True, help="EstimateModulus example_data folder")
     parser.add_argument("--pipelines", nargs="+",
                         default=["peak_change", "contact_profile", "contact_profile_3", "contact_profile_nn"],
-                        help="evaluate's names (convlstm and ofnn too)")
+                        help="evaluate's names (convlstm_intensity and ofnn_quantiles too)")
     parser.add_argument("--roi", action="store_true", help="crop the real grasps to the gel")
     parser.add_argument("--seed", type=int, default=0, help="seed of the nets")
     parser.add_argument("--sim-seeds", type=int, nargs="+", default=[0],

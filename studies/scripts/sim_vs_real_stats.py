@@ -282,6 +282,7 @@ def main():
 
     if args.manifest:
         from sklearn_hardness.datasets import load_press_videos
+        # private: load_press_videos' own report of every unreadable video in one error
         from sklearn_hardness.datasets._lazy import UnreadableVideosError, raise_unreadable
 
         reset_peak()

@@ -2,7 +2,7 @@
 
 Every seed of ``make_presses("everyday")`` draws 42 objects of its own (4
 presses each, 168 presses). Each pipeline of ``evaluate`` (by its name:
-``peak_change``, ``contact_profile``, ``convlstm``, ...) is trained on the
+``peak_change``, ``contact_profile``, ``convlstm_intensity``, ...) is trained on the
 presses of the first ``k`` simulated sets of ``--pool-seeds`` pooled, for each
 ``k`` of ``--sizes`` (42 ``k`` objects), and scored on the presses of every
 set of ``--test-seeds``: objects it has never seen, as in ``evaluate``'s
@@ -20,7 +20,7 @@ predicts the real GelSight Wedge grasps and the table counts the
 within-family pairs ordered right by expected hardness rank, as
 ``sim_to_real.py`` does for one simulated set.
 
-    python studies/scripts/training_objects.py [--pipelines peak_change contact_profile convlstm]
+    python studies/scripts/training_objects.py [--pipelines peak_change contact_profile convlstm_intensity]
         [--test-seeds 0 1 2 3 4] [--pool-seeds 10 11 ... 18] [--sizes 1 2 4 9] [--net-seeds 0]
         [--set NAME=VALUE ...] [--param NAME=VALUE ...] [--data EXAMPLE_DATA [--roi]]
         [--cache DIR] [--n-jobs 2] [--out FILE]
@@ -50,9 +50,10 @@ from _memory import peak_rss_mb, reset_peak
 from _output import report
 from sim_to_real import named_pipeline
 from sim_vs_real_stats import parse_param
+# private: --set parsed as the command line parses it; the per-press prefixes, run once per set and cached
 from sklearn_hardness._cli._common import _parse_set, _UsageError
-from sklearn_hardness._experiment_names import LOGISTIC_MODELS
-from sklearn_hardness.experiments._per_press import prefix_key, split_per_press, transform_per_press
+from sklearn_hardness.model_selection._per_press import prefix_key, split_per_press, transform_per_press
+from sklearn_hardness.models import pipeline_info
 
 
 def press_rows(prefix, videos, n_jobs, path=None):
@@ -151,7 +152,7 @@ def margin_cell(diffs):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--pipelines", nargs="+", default=["peak_change", "contact_profile", "convlstm"])
+    ap.add_argument("--pipelines", nargs="+", default=["peak_change", "contact_profile", "convlstm_intensity"])
     ap.add_argument("--test-seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
     ap.add_argument("--pool-seeds", type=int, nargs="+", default=list(range(10, 19)))
     ap.add_argument("--sizes", type=int, nargs="+", default=[1, 2, 4, 9],
@@ -186,7 +187,7 @@ def main(argv=None):
     prepared = time.perf_counter() - t0
     jobs = []
     for name in args.pipelines:
-        seeds = [0] if name == "peak_change" or name in LOGISTIC_MODELS else args.net_seeds  # no seed to vary
+        seeds = args.net_seeds if pipeline_info(name).random else [0]  # nothing random: no seed to vary
         for net_seed in seeds:
             for size in sorted(args.sizes, reverse=True):  # the longest fits first
                 train = (np.concatenate([sim[s][2][name] for s in pool[:size]]),
