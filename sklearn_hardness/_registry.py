@@ -97,8 +97,9 @@ _REGISTRY = dict([
 PIPELINE_NAMES = tuple(_REGISTRY)
 
 #: What ``evaluate`` runs by default (beside the baseline; and ``"loading_compliance"`` where every
-#: press has force and position).
-DEFAULT_PIPELINES = ("contact_profile", "contact_profile_nn", "convlstm_intensity", "ofnn_quantiles")
+#: press has force and position): the video pipelines that did best on real hand presses of new
+#: objects (studies/pages/real_development_objects.md), best first.
+DEFAULT_PIPELINES = ("contact_geometry", "convlstm_intensity", "contact_profile")
 
 #: The names the paper's experiments (``reproduce --model``, ``model=``) can run: their runner trains the
 #: pipeline's last step on inputs prepared once per dataset.

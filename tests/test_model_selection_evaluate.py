@@ -953,3 +953,13 @@ def test_evaluation_json_is_strict_json_where_a_fold_failed():
     assert "NaN" not in text and "Infinity" not in text
     assert json.loads(text, parse_constant=lambda c: pytest.fail(f"non-standard JSON {c}")) == {
         "fold_scores": {"ofnn": [0.5, None]}, "table": [{"ci": [None, 0.1]}]}
+
+
+def test_contact_geometry_features_are_computed_once_per_press():
+    """ContactGeometryFeatures learns nothing in fit: evaluate computes its rows once for all folds."""
+    from sklearn_hardness.model_selection._per_press import split_per_press
+    from sklearn_hardness.models import make_named_pipeline
+
+    prefix, rest = split_per_press(make_named_pipeline("contact_geometry"))
+    assert [name for name, _ in prefix.steps] == ["features"]
+    assert [name for name, _ in rest.steps] == ["scale", "clf"]
