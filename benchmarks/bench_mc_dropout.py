@@ -36,8 +36,29 @@ import time
 import numpy as np
 import torch
 
-from sklearn_hardness.models import ConvLSTMClassifier, DINOv2NNClassifier, MCDropout
+from sklearn_hardness.models import ConvLSTMClassifier, DINOv2NNClassifier
 
+
+def dropout_layers(module):
+    """The net's dropout layers: its submodules with a float drop probability ``p``.
+
+    The classifiers' MC-dropout layer is not a ``torch.nn.Dropout`` and its class is private;
+    in ConvLSTMNet and the MLP head these are exactly its instances (the modules that
+    ``set_params(dropout=...)`` updates), which ``check_dropout_layers`` checks.
+    """
+    return [m for m in module.modules() if m is not module and isinstance(getattr(m, "p", None), float)]
+
+
+def check_dropout_layers(net):
+    """Fail loudly if :func:`dropout_layers` misses the layers ``set_params(dropout=...)`` sets."""
+    layers = dropout_layers(net.module_)
+    p = net.dropout
+    net.set_params(dropout=0.125)
+    changed = [m for m in net.module_.modules() if getattr(m, "p", None) == 0.125]
+    net.set_params(dropout=p)
+    if not layers or [id(m) for m in layers] != [id(m) for m in changed]:
+        raise RuntimeError(f"dropout_layers found {len(layers)} layer(s); set_params changes {len(changed)}.")
+    return layers
 
 
 def reset_peak():
@@ -64,9 +85,8 @@ def loop_module(net, X, n_samples, batch_size):
     """50 separate dropout-on forward passes, each over X in predict_proba batches."""
     module = net.module_
     module.eval()
-    for m in module.modules():
-        if isinstance(m, MCDropout):
-            m.train()
+    for m in dropout_layers(module):
+        m.train()
     out = []
     device = next(module.parameters()).device
     with torch.inference_mode():
@@ -82,9 +102,8 @@ def loop_skorch(net, X, n_samples):
     """50 passes the way predict_proba runs: skorch dataset, DataLoader, infer."""
     module = net.module_
     module.eval()
-    for m in module.modules():
-        if isinstance(m, MCDropout):
-            m.train()
+    for m in dropout_layers(module):
+        m.train()
     out = []
     with torch.inference_mode():
         for _ in range(n_samples):
@@ -106,6 +125,7 @@ def timed(fn, repeat):
 
 
 def report(title, net, X, n_samples, repeat, batch_size):
+    check_dropout_layers(net)
     print(f"\n{title}: X {X.shape}, n_samples={n_samples}")
     print(f"{'method':<36}{'time (ms)':>11}{'vs batched':>11}{'peak RSS (MB)':>15}{'max|mean diff|':>16}{'MC std':>9}")
     t_b, p_b, ref = timed(lambda: net.predict_proba_samples(X, n_samples=n_samples, random_state=0), repeat)
@@ -123,9 +143,8 @@ def report(title, net, X, n_samples, repeat, batch_size):
     net.set_params(dropout=0.0)
     exact = np.abs(net.predict_proba_samples(X, n_samples=3, random_state=0) - net.predict_proba(X)).max()
     # with dropout 0 the batched path is skipped; check the replicated forward itself too
-    for m in net.module_.modules():
-        if isinstance(m, MCDropout):
-            m.p = 1e-12
+    for m in dropout_layers(net.module_):
+        m.p = 1e-12
     replicated = np.abs(net.predict_proba_samples(X, n_samples=3, random_state=0) - net.predict_proba(X)).max()
     net.set_params(dropout=0.2)
     print(f"check with dropout 0: max|samples - predict_proba| = {exact:.2e}; "
