@@ -33,12 +33,7 @@ import time
 import numpy as np
 import torch
 
-# Private import, kept on purpose (the last resort of the rule that benchmarks import public
-# API only): this benchmark times StackedConvLSTMNet's own training step against K separate
-# nets, and no public object exposes that net; EnsembleClassifier(stacked=True) builds one
-# inside fit and discards it, and its fit time is measured separately (--ensemble). The
-# separate nets are the stacked net's unstack(), so ConvLSTMNet itself is not needed here.
-from sklearn_hardness.models._stacked import StackedConvLSTMNet
+from sklearn_hardness.models import StackedConvLSTMNet
 
 
 def reset_peak():

@@ -9,6 +9,8 @@
   ConvLSTM's training batches.
 * :class:`EnsembleClassifier`: differently seeded copies of a classifier, whose
   spread replaces MC dropout as the source of ``predict_proba_samples``.
+* :class:`StackedConvLSTMNet`: K ConvLSTM nets stepped as one torch module
+  (``EnsembleClassifier(stacked=True)``'s, for many small nets on a GPU).
 * :class:`LaplaceLogisticRegression`: scikit-learn's logistic regression with
   ``predict_proba_samples`` from the Laplace approximation of its posterior
   (the contact-profile pipeline's logistic head).
@@ -38,6 +40,7 @@ from ._pipelines import (
     make_ofnn_pipeline,
 )
 from ._peak_change import make_peak_change_baseline, peak_contact_change
+from ._stacked import StackedConvLSTMNet
 from .._registry import make_named_pipeline, pipeline_info, pipeline_names
 
 __all__ = [
@@ -59,6 +62,7 @@ __all__ = [
     "ContactProfileNNClassifier",
     "ConvLSTMClassifier",
     "EnsembleClassifier",
+    "StackedConvLSTMNet",
     "LaplaceLogisticRegression",
     "is_converged",
 ]
