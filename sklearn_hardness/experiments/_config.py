@@ -58,7 +58,7 @@ _COMMON = {
     "batch_size": None,  # None: the model's default (8 ConvLSTM, 32 MLP heads)
     "frame_size": None,  # None: the model factory's (check_config fills it in)
     "color": None,
-    # ConvLSTM input: frame differences are small (std ~0.03 of full scale) and
+    # ConvLSTM input: frame differences are a small fraction of full scale and
     # the ConvLSTM barely trains on them; every run scales them with the
     # factory's FrameScaler fitted on its training presses (never the test
     # presses). None: raw.
@@ -73,7 +73,7 @@ _COMMON = {
     # improved (by 0.1%) for k epochs (skorch EarlyStopping on train_loss); epochs_per_query
     # becomes an upper bound. The initial training runs in full (the convergence rule is about
     # it). None: every epoch of initial_epochs / epochs_per_query is trained (the paper's rule).
-    # 5 is on the front of time against error (benchmarks/bench_time_error.py)
+    # 5 is on the front of time against error (docs/user_guide/runtime.rst)
     "early_stopping": 5,
     # None: whole frames. f in (0, 1): each press cut to a window of f x the frame's height
     # and width centred on its contact before resizing to frame_size (ContactFrameSelector)
@@ -88,8 +88,8 @@ PRESET_CONFIGS = {
     "silicone5": dict(
         _COMMON,
         model="convlstm",
-        # the paper's 1e-3 converged (loss <= 1) in 12 of 20 initial trainings, 3e-3 in 20 of 20
-        # (benchmarks/bench_convergence.py; ConvLSTMClassifier Notes); pass lr=1e-3 for the paper's
+        # at the paper's 1e-3 fewer initial trainings converge (loss <= 1) than at 3e-3
+        # (studies/scripts/convergence.py; ConvLSTMClassifier Notes); pass lr=1e-3 for the paper's
         lr=3e-3,
         n_between=2,
         initial_epochs=100,  # e0

@@ -30,8 +30,7 @@ def matmul_gflops(n=2048, repeat=3, threads=1):
     """The float32 matrix-product rate of this machine: the speed reference of timings.
 
     Times ``a @ b`` of two ``n x n`` float32 tensors (one warm-up, median of
-    ``repeat``) on ``threads`` torch threads: the practical peak of a core. About 1 s at the defaults on
-    a core doing 75-100 GFLOP/s.
+    ``repeat``) on ``threads`` torch threads: the practical peak of a core.
 
     Parameters
     ----------
@@ -109,7 +108,7 @@ def machine_reference(matmul=True):
     Parameters
     ----------
     matmul : bool, default=True
-        Measure :func:`matmul_gflops` on one thread (about 1 s).
+        Measure :func:`matmul_gflops` on one thread (four 2048x2048 products).
 
     Returns
     -------

@@ -18,7 +18,7 @@ from ._common import check_feature_names, feature_columns
 
 __all__ = ["ContactProfileFeatures"]
 
-#: Every feature, in output order when ``features="all"`` (the first ten are those before issue 20).
+#: Every feature, in output order when ``features="all"`` (the last two, ``log_loading_time`` and ``log_contact_spread``, were added later).
 FEATURE_NAMES = (
     "log_peak_change",
     "peak_over_precontact",
@@ -177,17 +177,16 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
     contact size grows with depth, which Hertz contact ties to hardness
     whatever the object's radius), the texture ratio (Laplacian energy over
     mean change), how far the change has risen halfway through loading, and
-    two measures added by issue 20: the loading time between frames
+    two later measures: the loading time between frames
     (``log_loading_time``: the crossings of 20% and 90% of the rise,
     interpolated between frames, where ``rise_frames`` counts whole frames)
     and the contact's spread (``log_contact_spread``: the second moment of
     the smoothed change at peak about its centroid, as a share of the
     frame). A gel's shading changes at the rim and slopes of a contact, not
     over its flat middle, so the share of changed pixels (``area_at_peak``)
-    does not follow the contact's size; the spread does (Spearman 0.87-0.94
-    with the simulator's rendered contact area over ten seeds of the
-    ``everyday`` preset, against -0.20 to -0.02 for ``area_at_peak``:
-    ``benchmarks/bench_contact_profile_features.py``). Where the change is
+    does not follow the contact's size; on the simulator the spread does
+    (evidence: ``studies/pages/contact_profile_features.md``,
+    ``studies/scripts/contact_profile_features.py``). Where the change is
     only a few times the pixel noise, the spread is pulled towards that of
     the noise (the whole frame).
 
@@ -195,8 +194,8 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
     ----------
     features : "all" or sequence of str, default="all"
         Which features to output, in this order (names as in
-        :meth:`get_feature_names_out`); ``"all"`` is the twelve, the first
-        ten those before issue 20. Every feature is computed either way; a
+        :meth:`get_feature_names_out`); ``"all"`` is the twelve, the last
+        two the later ``log_loading_time`` and ``log_contact_spread``. Every feature is computed either way; a
         subset is a choice of columns that ``GridSearchCV`` can make on a
         user's own presses (``features__features`` in
         :func:`~sklearn_hardness.models.make_contact_profile_pipeline`).

@@ -52,7 +52,7 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
         The low default lets ``n_features`` decide, i.e. the strongest
         ``n_features`` corners are kept even where strong features such as
         the markers of a GelSight gel dominate (on GelSight-like 240x320
-        frames 0.01 leaves only the ~130 marker corners).
+        frames 0.01 leaves only the marker corners).
     min_distance : float, default=5.0
         Minimal distance in pixels between two corners.
     block_size : int, default=7
@@ -142,8 +142,9 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
     object's press then hold unrelated points, and a classifier on the
     flattened tracks learns the objects it was trained on. The distribution
     of how far the corners moved does not depend on that order.
-    Object-disjoint on the ``everyday`` preset (``docs/simulator.md``) an
-    OFNN on this summary ranks unseen objects well above one on the tracks.
+    Object-disjoint on the ``everyday`` preset an OFNN on this summary ranks
+    unseen objects above one on the tracks (evidence:
+    ``studies/pages/net_inputs.md``).
 
     **Which frames.** Corners are found in the first selected frame. With
     ``ContactFrameSelector(subtract_first=True)`` the frames are differences

@@ -325,11 +325,13 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
     ``object_id``), so the score says how a pipeline does on a new object.
     Every pipeline sees the same folds; the one-number baseline
     (:func:`~sklearn_hardness.models.make_peak_change_baseline`) runs beside
-    them, and each pipeline's margin over it is paired by fold. Every interval
-    is corrected for the folds' overlapping training sets
-    (:func:`corrected_interval`). ``recommended`` names the best pipeline whose
-    margin's interval lies above 0, or None when the one number does as well.
-    See the user guide's page on evaluating pipelines on new objects.
+    them, and each pipeline's margin over it is paired by fold. Every
+    interval is corrected for the folds' overlapping training sets
+    (:func:`corrected_interval`) and clipped to the range its score can
+    take. ``recommended`` names the best pipeline whose margin's interval
+    lies above 0, or None when the one number does as well. How to read the
+    results: ``docs/user_guide/recording.rst``; whether the intervals keep
+    their level: ``studies/pages/evaluate_intervals.md``.
 
     Parameters
     ----------
@@ -346,13 +348,12 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         ``"loading_compliance"`` reads each press's ``force`` and
         ``position``, as does a given pipeline whose first step is a
         :class:`~sklearn_hardness.features.LoadingCompliance`). None:
-        ``"contact_profile"``, ``"contact_profile_nn"``,
-        ``"convlstm_intensity"``, ``"ofnn_quantiles"``, and
-        ``"loading_compliance"`` where every press has force and position.
-        The leading steps that turn each press into its row by that press
-        alone (frame selection, frozen features, the peak change) run once
-        over all presses, not once per fold, shared by the pipelines that
-        start with them: the same scores for less work.
+        ``"contact_geometry"``, ``"convlstm_intensity"`` and
+        ``"contact_profile"``, and ``"loading_compliance"`` where every press
+        has force and position. The leading steps that turn each press into
+        its row by that press alone (frame selection, frozen features, the
+        peak change) run once over all presses, not once per fold, shared by
+        the pipelines that start with them: the same scores for less work.
     cv : int, default=5
         Number of folds. Every class needs at least ``cv`` objects.
     n_repeats : int, default=1
@@ -365,103 +366,60 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         Add the one-number baseline as ``"peak_change"``.
     roi : tuple (top, bottom, left, right) or None, default=None
         The region of the frames that the baseline and the pipelines given
-        by name read (fractions of height and width): the ``roi`` of
-        :func:`~sklearn_hardness.models.make_peak_change_baseline` and of
-        :class:`~sklearn_hardness.features.ContactProfileFeatures`, and of
-        the nets' :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`.
-        For sensors whose frame shows more than the gel (a GelSight Wedge
-        grasp shows the housing and the other finger). Estimators given in
-        a dict are left as they are: set their own ``roi``.
-        ``"loading_compliance"`` reads no frames.
+        by name read (fractions of height and width): the ``roi`` of their
+        feature transformers and frame selectors. For sensors whose frame
+        shows more than the gel (a GelSight Wedge grasp shows the housing and
+        the other finger). Estimators given in a dict are left as they are.
     error_score : "raise" or float, default="raise"
         What a failing pipeline gives: raise, or warn and score the fold as
         this value (e.g. ``np.nan``); the table names the error.
     n_jobs : int or None, default=None
-        Folds run in parallel through joblib, one fit to a task (joblib's
-        automatic batching, misled by the baseline's quick fits, would queue
-        several of a net's fits on one worker while the others idle).
+        Folds run in parallel through joblib, one fit to a task.
     random_state : int, RandomState instance or None, default=0
         Seed of the fold assignment, of a simulated dataset and of the nets
         of the pipelines given by name (so a run repeats exactly; pass
         seeded estimators in a dict to control them yourself).
     verbose : int, default=1
-        Progress on stderr: a line naming the work, then one line per
-        finished fit with an estimate of the time left. ``0`` is silent.
+        Progress on stderr: one line per finished fit with an estimate of
+        the time left. ``0`` is silent.
 
     Returns
     -------
     result : :class:`~sklearn.utils.Bunch`
         table : list of dict
-            Per pipeline: ``pipeline``, ``balanced_accuracy`` and
-            ``balanced_accuracy_ci`` (mean over folds and its 95%
-            t-interval), ``vs_baseline`` and ``vs_baseline_ci`` (the mean
-            over folds of the pipeline's balanced accuracy minus the
-            one-number baseline's on the same fold, and its 95% t-interval;
-            None for the baseline itself or without it), ``mae`` and
-            ``mae_ci`` (hardness MAE, None without hardness),
-            ``fit_predict_seconds`` (all fits, and the one pass of its
-            per-press steps), ``n_folds`` (``cv``),
-            ``n_repeats``, ``predict_proba_samples`` (whether the pipeline
-            has it, so active sampling can use it), ``recall`` (class name
-            -> recall over the out-of-fold predictions of all repetitions:
-            which ranks a pipeline misses), ``object_balanced_accuracy``
-            and ``object_balanced_accuracy_ci``, ``object_vs_baseline`` and
-            ``object_vs_baseline_ci`` (the same over each fold's test
-            objects instead of its presses: an object's class is the argmax
-            of the mean of its presses' ``predict_proba``, or their majority
-            vote for a pipeline without it, ties to the lower class; what
-            several presses of a new object tell), ``error``. Every
-            interval is over the ``n_repeats * cv`` fold scores, its variance
-            corrected for overlapping training sets:
-            ``var * (1 / (n_repeats * cv) + n_test / n_train)``, and is
-            clipped to the range the score can take (``[0, 1]``, margins
-            ``[-1, 1]``, MAE from 0).
-        fold_scores : dict of name -> ndarray of shape (n_repeats * cv,)
-            Balanced accuracy per fold, repetition after repetition.
-        object_fold_scores : dict of name -> ndarray of shape (n_repeats * cv,)
-            The same over each fold's test objects (``object_balanced_accuracy``).
+            One dict per pipeline: ``pipeline``, ``balanced_accuracy``,
+            ``vs_baseline`` (margin over the baseline, paired by fold), ``mae``,
+            ``object_balanced_accuracy`` and ``object_vs_baseline`` (scored per
+            test object, from the mean of its presses' probabilities), each
+            with a 95% interval ``*_ci`` (None where it does not apply); ``recall`` (class
+            name -> out-of-fold recall), ``fit_predict_seconds``, ``n_folds``,
+            ``n_repeats``, ``predict_proba_samples`` and ``error``.
+        fold_scores, object_fold_scores : dict of name -> ndarray of shape (n_repeats * cv,)
+            Balanced accuracy per fold, per press and per object.
         predictions : dict of name -> ndarray of shape (n_samples,)
-            Out-of-fold predictions of the first repetition (every press
-            once).
+            Out-of-fold predictions of the first repetition.
         confusion : dict of name -> ndarray of shape (n_classes, n_classes)
-            Confusion matrix of the out-of-fold predictions of all
-            repetitions (every press counted ``n_repeats`` times).
+            Confusion matrix of the out-of-fold predictions of all repetitions.
         recommended : str or None
-            The pipeline with the highest balanced accuracy among those
-            whose paired interval against the one-number baseline lies above
-            0; None when none does (on these objects the one number does as
-            well as any within the spread of the folds) or without the
-            baseline.
+            The best pipeline whose margin's interval lies above 0; None when
+            none does or without the baseline.
         recommended_with_samples : str or None
-            The same among pipelines with ``predict_proba_samples`` (the
-            choice for active sampling).
+            The same among pipelines with ``predict_proba_samples``.
         notes : list of str
-            What the per-press steps found that the folds' silenced warnings
-            would have said: how many presses the contact-frame selection
-            of the nets found contact on (weak, none, too short), how many
-            corners the optical flow found per press and how many of their
-            tracks it lost, and how many presses a force-and-position
-            pipeline found no loading phase in; with a numeric
-            ``error_score``, the presses on which a pipeline's per-press
-            steps fail by themselves. Empty without such steps.
+            What the per-press steps found (presses without contact, lost
+            flow tracks, failed presses...) that the folds' warnings would say.
         target, target_names, groups, folds, n_repeats, chance
             The labels, class names, object of each press, the folds' test
-            indices (``n_repeats * cv`` arrays, repetition after
-            repetition), the number of repetitions, and chance level
-            (``1 / n_classes``).
+            indices, the number of repetitions and ``1 / n_classes``.
 
     Raises
     ------
     ValueError
         A class with fewer objects than ``cv``, an unknown pipeline name,
-        a dataset without ``object_id``, or ``"loading_compliance"`` on a
-        dataset without force and position for every press. Also, whatever
-        ``error_score``, videos that cannot be read (a corrupt or truncated
-        file): the error lists every one of them, before any fit. With
-        ``error_score="raise"``, presses on which a pipeline's per-press
-        steps fail by themselves (e.g. a video of one frame, where the nets'
-        contact-frame selection needs two): the error lists every one of
-        them, by index among the dataset's presses and file, before any fit.
+        a dataset without ``object_id``, or ``"loading_compliance"`` without
+        force and position for every press. Also, before any fit, videos
+        that cannot be read and (with ``error_score="raise"``) presses on
+        which a pipeline's per-press steps fail, each listed.
 
     See Also
     --------

@@ -32,8 +32,8 @@ def corrected_interval(scores, test_train_ratio, *, baseline=None, df=None, boun
     of ``var(scores, ddof=1) / n`` (as in scikit-learn's example
     "Statistical comparison of models using grid search"). With
     ``baseline``, the interval is that of the paired difference
-    ``scores - baseline`` (the same folds). See the user guide's page on
-    evaluating pipelines on new objects.
+    ``scores - baseline`` (the same folds). See ``docs/user_guide/recording.rst``;
+    evidence that it keeps its level: ``studies/pages/evaluate_intervals.md``.
 
     Parameters
     ----------

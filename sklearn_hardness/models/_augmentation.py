@@ -56,28 +56,13 @@ class FrameAugmenter(BaseEstimator):
 
     Notes
     -----
-    Measured with ``python benchmarks/bench_augmentation.py --seeds 0 1 2
-    --data .../example_data --roi`` (the ConvLSTM of ``evaluate``,
-    ``make_convlstm_pipeline(intensity_channels=True)``, 12x16 frames, 100
-    epochs; 2-core machine, 13-22 min per seed): on the simulated
-    ``everyday`` preset as it was before issue 20 moved it (each hardness
-    rank its own kinds of object), object-disjoint, ``flip=True, gain=0.2`` gave
-    balanced accuracy 0.86 / 0.76 / 0.84 against 0.82 / 0.80 / 0.85 without
-    (seeds 0 / 1 / 2; the one-number baseline 0.43-0.45); trained on all
-    presses of the same sets, it ordered 5 / 6 / 5 of the 9 within-family
-    pairs of real GelSight Wedge grasps (``GelSight-lab/EstimateModulus``,
-    gel region) against 4 / 5 / 5. Trained on ``make_presses("everyday",
-    kinds_by_rank=False, conformity=0.1)`` instead, on the former preset's
-    other settings (kinds shared, the step before today's preset;
-    ``docs/_output/augmentation_kinds_shared.txt``): 0.52 / 0.66 / 0.54
-    against 0.58 / 0.66 / 0.52 simulated, 6 / 5 / 6 real pairs against
-    6 / 3 / 6. Over the six paired runs it never ordered fewer real pairs
-    (three more by one or two) and moved the simulated score by -0.06 to
-    +0.04: within the spread of seeds on both, so
-    ``make_convlstm_pipeline`` leaves it off by default; the test
-    ``tests/test_models_augmentation.py`` shows what it is for (a brightness
-    that tells the class in training and not at test). Figures beside the
-    other pipelines in ``docs/simulator.md``.
+    On simulated new objects and on real GelSight Wedge grasps,
+    ``flip=True, gain=0.2`` gave no measurable gain over training without
+    it (paired runs, within the spread of seeds), so
+    ``make_convlstm_pipeline`` leaves it off by default (evidence:
+    ``studies/pages/convlstm_augmentation.md``). The test
+    ``tests/test_models_augmentation.py`` shows what it is for: a
+    brightness that tells the class in training and not at test.
 
     See Also
     --------

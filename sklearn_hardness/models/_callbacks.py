@@ -13,8 +13,8 @@ class EarlyStoppingAfterFirstFit(EarlyStopping):
     In active sampling a net is trained once on the initial presses, then
     again (``partial_fit``) after each query. The first call runs every epoch,
     so the paper's convergence rule (training loss <= 1 after it) keeps its
-    meaning: stopped early, 2 of 5 paper-settings runs failed it
-    (``benchmarks/bench_time_error.py``). The calls after it stop once the
+    meaning: stopped early, initial trainings can fail it (evidence:
+    ``docs/user_guide/runtime.rst``). The calls after it stop once the
     monitored loss has not improved for ``patience`` epochs. The experiments'
     ``early_stopping=k`` adds it to their named nets.
 

@@ -115,8 +115,7 @@ def is_converged(net, threshold=1.0, *, n_classes=None):
     """Whether a trained net converged by the paper's rule.
 
     The paper reports a ConvLSTM "whose training loss after initial training
-    exceeds 1" as not converged and leaves it out (81% of its runs
-    converged). The loss is the mean cross-entropy of the last training
+    exceeds 1" as not converged and leaves it out. The loss is the mean cross-entropy of the last training
     epoch, as recorded by skorch (dropout on). The paper's data have 5
     classes; ``threshold="chance"`` carries its rule over to any number of
     classes as the same fraction of chance loss ``ln K``

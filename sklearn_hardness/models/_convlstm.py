@@ -186,7 +186,7 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
     :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`. The input
     is standardised inside the net with statistics of the first training data
     (``standardize``). Small frames are enough and much faster: see the
-    ``frame_size`` of the frame selector and ``benchmarks/bench_convlstm.py``.
+    ``frame_size`` of the frame selector and ``docs/user_guide/runtime.rst``.
 
     Parameters
     ----------
@@ -208,7 +208,7 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         in the paper; the global average pool after the last layer averages
         these masks away, so the MC passes barely differ. ``"channels"``: after
         each layer, one mask per channel map (shared over time and space),
-        which pooling keeps. See Notes for the measurement behind the default.
+        which pooling keeps. See Notes for why ``"head"`` is the default.
         The experiments take it as the configuration key
         ``dropout_placement`` (``--set dropout_placement=layers`` for the
         paper's placement; hashed only when not ``"head"``, so earlier
@@ -239,9 +239,8 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
     criterion : torch criterion class, default=torch.nn.CrossEntropyLoss
     optimizer : torch optimizer class, default=torch.optim.Adam
     lr : float, default=3e-3
-        The paper trains with 1e-3; at its other settings only 60% of
-        initial trainings then pass its convergence rule, 100% at 3e-3
-        (see Notes).
+        The paper trains with 1e-3; at its other settings fewer initial
+        trainings then pass its convergence rule than at 3e-3 (see Notes).
     max_epochs : int, default=100
         Epochs of :meth:`fit`: the paper's initial training on its robot
         data; continue with ``partial_fit(X, y, epochs=50)``.
@@ -276,56 +275,25 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
 
     Notes
     -----
-    Dropout placement, measured with ``python benchmarks/bench_mc_share.py
-    --seeds 3`` (simulated ``silicone5``, 5 training presses per object,
-    18x24 grey difference frames, 100 epochs, dropout 0.2; 50 MC passes on
-    held-out presses of one object; share of the paper's Eq. 2 variance that
-    comes from the MC passes, :func:`sklearn_hardness.active.variance_decomposition`;
-    mean over 3 seeds, on a loaded 2-core machine):
+    ``"head"`` is the default dropout placement: its MC passes carry a
+    larger share of the paper's Eq. 2 variance
+    (:func:`sklearn_hardness.active.variance_decomposition`) than the
+    paper's placement after each layer, at a similar held-out accuracy, and
+    cost about one prediction (only the pooled features are replicated).
+    With any placement most of Eq. 2 at dropout 0.2 is disagreement between
+    the test presses, not MC noise (evidence: ``studies/scripts/mc_share.py``).
 
-    ==========  ========  =========================  ====================
-    placement   MC share  held-out accuracy (all)    50 passes / predict
-    ==========  ========  =========================  ====================
-    layers      0.032     0.520                      22-40x
-    channels    0.247     0.453                      34-42x
-    head        0.203     0.507                      0.7-0.9x
-    ==========  ========  =========================  ====================
+    The default ``lr`` is 3e-3: at the paper's 1e-3, 100 epochs do not fit
+    5 presses per object and many initial trainings end with a loss near 1,
+    failing the paper's convergence rule, while 3e-3 converges at the same
+    cost per fit; gradient clipping and a cosine schedule did not help.
+    Pass ``lr=1e-3`` for the paper's value (evidence:
+    ``studies/scripts/convergence.py``).
 
-    ``"head"`` is the default: six times the MC share of the paper's
-    placement at its accuracy, and its MC passes cost no more than one
-    prediction (only the pooled features are replicated). No placement
-    reaches half of Eq. 2 at dropout 0.2: most of it is disagreement between
-    the test presses.
-
-    Convergence by the paper's rule (training loss <= 1 after 100 epochs on
-    5 presses per object, 18x24 grey frames, dropout 0.2, batch 8, ``"head"``
-    placement, standardised input; 20 seeds, each with its own training
-    presses and initial weights), measured on an idle 2-core machine with
-    ``python benchmarks/bench_convergence.py --seeds 20 --configs
-    std,std+lr3e-3 --n-jobs 2``:
-
-    ========  =========  ===========  =========  =======
-    lr        converged  median loss  max loss   s / fit
-    ========  =========  ===========  =========  =======
-    1e-3      12/20      0.957        1.223      10.5
-    3e-3      20/20      0.728        0.920      10.5
-    ========  =========  ===========  =========  =======
-
-    At the paper's lr 1e-3 the losses sit near 1 because 100 epochs do not
-    fit 25 presses; earlier runs of the same benchmark (few seeds, loaded
-    machine) found ``GradientNormClipping(1.0)`` (1 of 2 converged) and a
-    cosine schedule to 0 (0 of 3) no better. The default is therefore
-    lr 3e-3 at the same cost per fit; pass ``lr=1e-3`` for the paper's value.
-
-    Input size trades accuracy against time: on simulated ``silicone5`` (5
-    training presses per object, 86 test presses per object, 100 epochs, 10
-    seeds; ``benchmarks/bench_model_baselines.py``, with the paper's dropout
-    placement and :class:`FrameScaler`) 18x24 grey frames gave
-    55.1% +- 4.7% test accuracy in 166 s for all seeds and 36x48 gave
-    44.8% +- 2.7% in 491 s: larger frames cost time and did not help with 25
-    training presses. The experiments and :func:`make_convlstm_pipeline`
-    now use 12x16, the fastest point of the time/error front of the
-    active-sampling runs (``docs/user_guide/runtime.rst``).
+    Larger frames cost time and did not raise accuracy with a few training
+    presses per object; the experiments and :func:`make_convlstm_pipeline`
+    use 12x16 frames (evidence: ``docs/user_guide/runtime.rst``,
+    ``studies/scripts/model_baselines.py``).
 
     Examples
     --------

@@ -184,7 +184,7 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
         and optimiser state; its dropout masks are drawn independently but
         are not those of separate training (see Notes). ``"auto"``: stacked
         on a CUDA device when possible, separate otherwise (on CPU stacking
-        measured no faster: ``benchmarks/bench_stacked.py``). ``True``:
+        is no faster: ``benchmarks/bench_stacked.py``). ``True``:
         stacked, or a ``ValueError`` saying why not.
 
     Attributes

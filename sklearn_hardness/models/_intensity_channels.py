@@ -33,14 +33,13 @@ class IntensityChannels(TransformerMixin, BaseEstimator):
     ConvLSTM sees linear intensities through saturating gates and a spatial
     average, and from the presses of a few dozen objects it learns the
     objects' shapes instead. On a log scale these ratios are differences
-    the recurrent layers can use directly. Object-disjoint on the simulated
-    ``everyday`` preset this lifted the ConvLSTM from about the one-number
-    baseline to clearly above it. It is a strong pull towards intensity,
-    though: on presses of the *same* few objects (the paper's setting), where
-    the spatial pattern of the change is what tells them apart, it cost the
-    ConvLSTM a third of its accuracy. Use it for objects not seen in
-    training (``make_convlstm_pipeline(intensity_channels=True)``); figures in
-    ``docs/simulator.md``.
+    the recurrent layers can use directly. Object-disjoint on the simulator
+    the ConvLSTM needed them to read new objects. It is a strong
+    pull towards intensity, though: on presses of the *same* few objects
+    (the paper's setting), where the spatial pattern of the change is what
+    tells them apart, it costs the ConvLSTM accuracy. Use it for objects
+    not seen in training (``make_convlstm_pipeline(intensity_channels=True)``;
+    evidence: ``studies/pages/net_inputs.md``).
 
     Parameters
     ----------

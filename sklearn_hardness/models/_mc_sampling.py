@@ -89,8 +89,8 @@ class MCDropout(torch.nn.Module):
         shape = x.shape
         if self.per_channel:
             shape = x.shape[:1] + (1,) * (x.dim() - 4) + (x.shape[-3], 1, 1)
-        # U < keep with U ~ Uniform[0, 1) is Bernoulli(keep); on CPU about 3x faster
-        # than Tensor.bernoulli_ (benchmarks/bench_mc_dropout.py).
+        # U < keep with U ~ Uniform[0, 1) is Bernoulli(keep); on CPU faster than
+        # Tensor.bernoulli_ (benchmarks/bench_mc_dropout.py).
         # out of place: under torch.func.vmap (StackedConvLSTMNet) the in-place lt_ has no
         # batching rule and falls back to a slow loop
         mask = torch.rand(shape, generator=self.generator, device=x.device, dtype=x.dtype)

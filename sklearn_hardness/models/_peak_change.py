@@ -66,10 +66,10 @@ def make_peak_change_baseline(class_weight="balanced", roi=None):
         height and width; see :func:`peak_contact_change`). Where the frame
         shows more than the gel (a GelSight Wedge grasp shows the housing
         and the other finger), the region matters: trained on the
-        ``everyday`` preset, the baseline orders 8 of 9 within-family pairs
-        of the public real grasps of ``GelSight-lab/EstimateModulus`` by
-        softness on the gel region, 6 of 9 on the whole frame
-        (``benchmarks/bench_sim_to_real.py``).
+        ``everyday`` preset, the baseline orders the public real grasps of
+        ``GelSight-lab/EstimateModulus`` by softness better on the gel
+        region than on the whole frame (evidence:
+        ``studies/pages/sim_to_real_wedge.md``).
 
     Returns
     -------

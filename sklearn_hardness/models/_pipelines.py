@@ -166,8 +166,7 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
     Which input ranks new objects better is measured, not assumed: compare
     them with :func:`~sklearn_hardness.model_selection.evaluate_pipelines`
     (``"convlstm"`` and ``"convlstm_intensity"``) on your own objects, beside
-    the one-number baseline; the simulator page of the user guide has the
-    figures.
+    the one-number baseline (evidence: ``studies/pages/net_inputs.md``).
 
     Parameters
     ----------
@@ -185,8 +184,8 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
         :class:`ConvLSTMClassifier`'s ``augment``). True: a default
         :class:`FrameAugmenter` whose ``log_channels`` are the intensity
         channels when ``intensity_channels=True``; a :class:`FrameAugmenter`
-        is used as given. What it changed, measured, is in
-        :class:`FrameAugmenter`'s Notes.
+        is used as given. Off by default: it gave no measurable gain
+        (:class:`FrameAugmenter`'s Notes).
     roi : tuple (top, bottom, left, right) or None, default=None
         ``roi`` of the :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`
         (step ``"frames"``): find contact and take frames only in this region
@@ -251,7 +250,7 @@ def make_ofnn_pipeline(*, n_between=2, frame_size=(120, 160), n_features=500, fl
         the paper's own setting (5 training presses per object on
         ``silicone5`` and ``shore9``) better than the paper's flattened
         ``"tracks"``, which the :mod:`~sklearn_hardness.experiments` use to
-        reproduce the paper (figures in ``docs/simulator.md``).
+        reproduce the paper (evidence: ``studies/pages/net_inputs.md``).
     roi : tuple (top, bottom, left, right) or None, default=None
         ``roi`` of the :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`
         (step ``"frames"``): find contact and track corners only in this
@@ -332,8 +331,9 @@ def make_contact_profile_pipeline(*, head="logistic", features="all", max_side=8
     ratio, ...) computed on the whole video, without frame selection, then a
     classifier. The default head is the logistic regression, whose posterior
     samples drive active sampling; ``head="nn"`` is an MC-dropout MLP. How
-    the heads and inputs compare on real and simulated new objects is in the
-    simulator page of the user guide.
+    the heads and inputs compare on real and simulated new objects:
+    ``studies/pages/pipelines_new_objects.md`` and
+    ``studies/pages/real_development_objects.md``.
 
     Parameters
     ----------
@@ -445,11 +445,10 @@ def make_loading_compliance_pipeline(*, features=("hertz_compliance",), onset=0.
     The default input is the Hertz compliance alone (position against
     ``F^(2/3)``): it does not depend on the force a press reaches, so a
     model trained on the simulator's presses of a few newtons carries over
-    to grasps of tens of newtons. ``benchmarks/bench_loading_compliance.py``
-    measures it on simulated presses of new objects and across forces,
-    ``benchmarks/bench_wedge_force.py`` on real GelSight Wedge grasps
-    (figures in the simulator page of the docs, "A pipeline that reads
-    force and position").
+    to grasps of tens of newtons (evidence:
+    ``studies/pages/force_and_position.md``, from
+    ``studies/scripts/loading_compliance.py`` on simulated presses and
+    ``studies/scripts/wedge_force.py`` on real GelSight Wedge grasps).
 
     Parameters
     ----------

@@ -24,9 +24,9 @@ _CURVE_SIDE = 80
 # Auto threshold: baseline + max(_NOISE_FACTOR * noise, _RELATIVE * (peak - baseline)).
 _NOISE_FACTOR = 6.0
 _RELATIVE = 0.05
-# Strong contacts (markers, uncompressed sensors: the simulator's 18-21 levels) rise this many
-# levels over the mean curve's quiet level; weaker ones (real marker-less presses, 1.5-3 levels
-# at peak over ~0.75-1 of codec noise) go to the weak-contact test, whose smoothed, localised
+# Strong contacts (markers, uncompressed sensors such as the simulator's) rise this many
+# levels over the mean curve's quiet level; weaker ones (real marker-less presses, a few levels
+# at peak, near the codec noise) go to the weak-contact test, whose smoothed, localised
 # curve also places their start and peak better on a compressed plateau that steps at key frames.
 _STRONG_CONTRAST = 2.0
 # Weak contacts (compressed, marker-less streams) are tested on a localised curve: the mean
