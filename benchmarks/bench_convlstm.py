@@ -30,30 +30,11 @@ import torch
 
 from sklearn_hardness.models import ConvLSTMClassifier
 
+from _memory import peak_rss_mb, reset_peak  # benchmarks/_memory.py, beside this script
+
 COMPLIANCE = np.array([1.13, 1.02, 0.79, 0.68, 0.44])  # mm/N, the paper's objects
 C_GEL = 0.3  # mm/N
 
-
-
-def reset_peak():
-    """Reset the resident-set high-water mark (Linux; no-op elsewhere)."""
-    try:
-        with open("/proc/self/clear_refs", "w") as f:
-            f.write("5")
-    except OSError:
-        pass
-
-
-def peak_rss_mb():
-    """Peak resident set size since the last :func:`reset_peak`, in MB (NaN if unknown)."""
-    try:
-        with open("/proc/self/status") as f:
-            for line in f:
-                if line.startswith("VmHWM"):
-                    return int(line.split()[1]) / 1024
-    except OSError:
-        pass
-    return float("nan")
 
 def synthetic_selected_frames(n, k=4, size=(240, 320), seed=0):
     """(n, k, H, W, 3) float32 differences to the first frame, and labels."""

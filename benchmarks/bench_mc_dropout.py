@@ -38,6 +38,8 @@ import torch
 
 from sklearn_hardness.models import ConvLSTMClassifier, DINOv2NNClassifier
 
+from _memory import peak_rss_mb, reset_peak  # benchmarks/_memory.py, beside this script
+
 
 def dropout_layers(module):
     """The net's dropout layers: its submodules with a float drop probability ``p``.
@@ -60,26 +62,6 @@ def check_dropout_layers(net):
         raise RuntimeError(f"dropout_layers found {len(layers)} layer(s); set_params changes {len(changed)}.")
     return layers
 
-
-def reset_peak():
-    """Reset the resident-set high-water mark (Linux; no-op elsewhere)."""
-    try:
-        with open("/proc/self/clear_refs", "w") as f:
-            f.write("5")
-    except OSError:
-        pass
-
-
-def peak_rss_mb():
-    """Peak resident set size since the last :func:`reset_peak`, in MB (NaN if unknown)."""
-    try:
-        with open("/proc/self/status") as f:
-            for line in f:
-                if line.startswith("VmHWM"):
-                    return int(line.split()[1]) / 1024
-    except OSError:
-        pass
-    return float("nan")
 
 def loop_module(net, X, n_samples, batch_size):
     """50 separate dropout-on forward passes, each over X in predict_proba batches."""

@@ -35,26 +35,7 @@ import torch
 
 from sklearn_hardness.models import StackedConvLSTMNet
 
-
-def reset_peak():
-    """Reset the resident-set high-water mark (Linux; no-op elsewhere)."""
-    try:
-        with open("/proc/self/clear_refs", "w") as f:
-            f.write("5")
-    except OSError:
-        pass
-
-
-def peak_rss_mb():
-    """Peak resident set size since the last :func:`reset_peak`, in MB (NaN if unknown)."""
-    try:
-        with open("/proc/self/status") as f:
-            for line in f:
-                if line.startswith("VmHWM"):
-                    return int(line.split()[1]) / 1024
-    except OSError:
-        pass
-    return float("nan")
+from _memory import peak_rss_mb, reset_peak  # benchmarks/_memory.py, beside this script
 
 
 def matmul_gflops(n=2048, repeat=3):
