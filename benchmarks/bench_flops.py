@@ -24,22 +24,11 @@ from torch.utils.flop_counter import FlopCounterMode
 
 from sklearn_hardness.models import ConvLSTMClassifier
 
+from _reference import matmul_gflops  # benchmarks/_reference.py, beside this script
+
 #: The net ConvLSTMClassifier trains (its public ``module`` parameter's default), reached
 #: without importing the private module that defines it; built below as before.
 ConvLSTMNet = ConvLSTMClassifier().get_params()["module"]
-
-
-def matmul_gflops(n=2048, repeat=3):
-    """Float32 ``n x n`` matrix-product rate on the current torch threads, GFLOP/s (median of ``repeat``)."""
-    gen = torch.Generator().manual_seed(0)
-    a, b = torch.randn(n, n, generator=gen), torch.randn(n, n, generator=gen)
-    a @ b  # warm-up
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        a @ b
-        times.append(time.perf_counter() - start)
-    return 2 * n**3 / float(np.median(times)) / 1e9
 
 
 def median_time(fn, repeat, warmup=2):

@@ -36,19 +36,7 @@ import torch
 from sklearn_hardness.models import StackedConvLSTMNet
 
 from _memory import peak_rss_mb, reset_peak  # benchmarks/_memory.py, beside this script
-
-
-def matmul_gflops(n=2048, repeat=3):
-    """Float32 ``n x n`` matrix-product rate on the current torch threads, GFLOP/s (median of ``repeat``)."""
-    gen = torch.Generator().manual_seed(0)
-    a, b = torch.randn(n, n, generator=gen), torch.randn(n, n, generator=gen)
-    a @ b  # warm-up
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        a @ b
-        times.append(time.perf_counter() - start)
-    return 2 * n**3 / float(np.median(times)) / 1e9
+from _reference import matmul_gflops  # benchmarks/_reference.py, beside this script
 
 
 def matmul_reference(device, n, repeat):
