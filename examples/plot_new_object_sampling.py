@@ -70,9 +70,9 @@ ax.set_title(f"new object: {objects[0]}")
 # each test object is held out, the model starts from 5 presses of every
 # reference object and, 5 times, asks for 5 presses of the object a strategy
 # chooses, refitting after each. Two seeds on six objects are anecdotes:
-# the pre-registered run on 840 pairs (``docs/preregistration/
-# thompson_laplace_contact_profile.md``) found ``thompson`` 2.7 points more
-# accurate than ``random`` [+0.7, +4.6] and 1.6 presses quicker to settle.
+# the pre-registered run on 840 pairs (``studies/preregistration/
+# thompson_laplace_contact_profile.md``) and every other run on the question
+# are on ``studies/pages/new_objects_active_sampling.md``.
 result = run_active_sampling(
     data,
     model="contact_profile",

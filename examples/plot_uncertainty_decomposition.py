@@ -86,9 +86,8 @@ plt.show()
 # On many trained nets rather than one
 # ------------------------------------
 # One net and one test object are an anecdote.
-# ``python benchmarks/bench_mc_share.py --seeds 3`` measures the MC share over
-# seeds for each placement (its figures are in the ConvLSTMClassifier's
-# docstring): at dropout 0.2 none reaches half of Eq. 2, and the paper's
-# placement gives the smallest. Every active-sampling run records both parts
+# ``python studies/scripts/mc_share.py --seeds 3`` measures the MC share over
+# seeds for each placement: at dropout 0.2 none reaches half of Eq. 2, and the
+# paper's placement gives the smallest. Every active-sampling run records both parts
 # per iteration (``variance_mc`` and ``variance_between`` in its history),
 # and the strategy ``"mc_variance"`` ranks classes by the MC part alone.

@@ -3,7 +3,7 @@
 Tests of properties that the former preset has by design (each rank its own kinds of object, rigid
 imprints, softer soft objects; on it the ready-made nets beat the one-number baseline by >= 0.10)
 pass these explicitly, so they test what they say and not whatever the defaults are. The settings are
-defined once, as ``PRESET_BEFORE`` in ``benchmarks/_sim_variants.py``, which the simulator benchmarks
+defined once, as ``PRESET_BEFORE`` in ``studies/scripts/_sim_variants.py``, which the simulator studies
 build their variants on.
 """
 

@@ -165,7 +165,7 @@ def test_repeated_folds_reuse_the_objects_in_other_assignments(tiny):
     assert rows["dummy"]["n_folds"] == 3 and rows["dummy"]["n_repeats"] == 3
     # every interval runs over the 9 fold scores with the corrected variance, and keeps the 2 degrees of
     # freedom of one repetition's 3 folds: the repetitions reuse the objects (with 8, equal pipelines were
-    # recommended 1.5x as often as promised, benchmarks/bench_margin_interval.py --n-repeats 5)
+    # recommended 1.5x as often as promised, studies/scripts/margin_interval.py --n-repeats 5)
     ratio = np.mean([len(test) / (n - len(test)) for test in result.folds])
     t = stats.t.ppf(0.975, 2)
     for values, bound, (m, (lo, hi)) in [  # bound: each interval is clipped to its score's range
