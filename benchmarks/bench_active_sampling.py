@@ -52,16 +52,12 @@ Measured (shared 2-core VM, load 5-8, so wall times are inflated; CPU times are 
 import argparse
 import math
 import os
-import resource
-import sys
 import time
 
 import numpy as np
 
-
-def _peak_rss_mib():
-    r = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    return r / 1024 if sys.platform != "darwin" else r / 2**20
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb
 
 
 def _overrides(args):
@@ -91,7 +87,7 @@ def one_run(args):
     t = time.perf_counter()
     prepare("silicone5", args.cache, model=args.model, quick=args.quick, **overrides)
     prep = time.perf_counter() - t
-    rss_prep = _peak_rss_mib()
+    rss_prep = peak_rss_mb()
     t, c = time.perf_counter(), time.process_time()
     res = run_active_sampling("silicone5", model=args.model, strategies=(args.strategy,), test_classes=[0],
                               seeds=[args.seed], quick=args.quick, n_jobs=1, memory=args.cache, verbose=0,
@@ -106,7 +102,7 @@ def one_run(args):
           f"frames={cfg['frame_size'] or 'model default'} lr={cfg['lr']}")
     print(f"{'stage':<28}{'wall s':>9}{'cpu s':>9}{'peak RSS MiB':>14}  result")
     print(f"{'prepare 455 presses (+1 epoch)':<28}{prep:>9.1f}{'':>9}{rss_prep:>14.0f}")
-    print(f"{'active-sampling run':<28}{wall:>9.1f}{cpu:>9.1f}{_peak_rss_mib():>14.0f}  "
+    print(f"{'active-sampling run':<28}{wall:>9.1f}{cpu:>9.1f}{peak_rss_mb():>14.0f}  "
           f"converged={r['converged']} (loss {r['initial_train_loss']:.3f}), accuracy per iteration "
           f"{[round(a, 2) for a in r['accuracy']]}, queried {r['queried']}")
     if r["converged"]:
@@ -143,7 +139,7 @@ def paired(args):
           f"{len(common)} converged in all strategies; e0={cfg['initial_epochs']} e={cfg['epochs_per_query']} "
           f"M={cfg['max_reservoir']} frames={cfg['frame_size'] or 'default'} lr={cfg['lr']} "
           f"MC={cfg['n_mc_samples']}{' [quick]' if args.quick else ''}; wall {wall:.0f} s, "
-          f"peak RSS {_peak_rss_mib():.0f} MiB (parent)")
+          f"peak RSS {peak_rss_mb():.0f} MiB (parent)")
 
     def ci(v):
         v = np.asarray(v, float)

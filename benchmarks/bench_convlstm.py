@@ -30,7 +30,8 @@ import torch
 
 from sklearn_hardness.models import ConvLSTMClassifier
 
-from _memory import peak_rss_mb, reset_peak  # benchmarks/_memory.py, beside this script
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb, reset_peak
 
 COMPLIANCE = np.array([1.13, 1.02, 0.79, 0.68, 0.44])  # mm/N, the paper's objects
 C_GEL = 0.3  # mm/N

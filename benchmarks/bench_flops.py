@@ -4,7 +4,7 @@ Counts the floating-point operations of one training step (forward, backward,
 Adam update excluded) of ``ConvLSTMNet`` with ``torch.utils.flop_counter`` and
 times the step; divides one by the other and compares the result with the
 rate of a large float32 matrix product on the same threads (the practical
-peak of these cores, ``matmul_gflops`` below). Printed per input size: batch, GFLOP per step, ms per
+peak of these cores, ``harness.machine.matmul_gflops``). Printed per input size: batch, GFLOP per step, ms per
 step (median of ``--repeat``), achieved GFLOP/s and its share of the
 matrix-product peak; and the same for 50 MC-dropout passes over 5 test
 presses as ``predict_proba_samples`` runs them (the recurrent stack once,
@@ -24,7 +24,8 @@ from torch.utils.flop_counter import FlopCounterMode
 
 from sklearn_hardness.models import ConvLSTMClassifier
 
-from _reference import matmul_gflops  # benchmarks/_reference.py, beside this script
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.machine import matmul_gflops
 
 #: The net ConvLSTMClassifier trains (its public ``module`` parameter's default), reached
 #: without importing the private module that defines it; built below as before.
@@ -59,7 +60,7 @@ def main():
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
     torch.manual_seed(0)
-    peak = matmul_gflops(args.matmul, args.repeat) * 1e9
+    peak = matmul_gflops(args.matmul, args.repeat, threads=None) * 1e9  # on --threads
     print(f"torch {torch.__version__}, {args.threads} thread(s), "
           f"LD_PRELOAD={os.environ.get('LD_PRELOAD', '') or '-'}")
     print(f"float32 matmul {args.matmul}^3: {peak / 1e9:.1f} GFLOP/s (the reference peak)")

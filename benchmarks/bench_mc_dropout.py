@@ -38,7 +38,8 @@ import torch
 
 from sklearn_hardness.models import ConvLSTMClassifier, DINOv2NNClassifier
 
-from _memory import peak_rss_mb, reset_peak  # benchmarks/_memory.py, beside this script
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb, reset_peak
 
 
 def dropout_layers(module):

@@ -20,16 +20,14 @@ regression (``evaluate_pipelines``).
 """
 
 import argparse
-import resource
 import time
 
 import numpy as np
 from joblib import Parallel, delayed
 from threadpoolctl import threadpool_limits
 
-
-def _rss_mb():
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb
 
 
 def _frames(videos):
@@ -73,11 +71,11 @@ def main():
 
     from sklearn_hardness.datasets import make_presses
 
-    rss_import = _rss_mb()
+    rss_import = peak_rss_mb()
     t0 = time.perf_counter()
     data = make_presses("silicone5", image_size=tuple(args.image_size), random_state=args.seed)
     t_make = time.perf_counter() - t0
-    rss_make = _rss_mb()
+    rss_make = peak_rss_mb()
     t0 = time.perf_counter()
     if args.n_jobs > 1:
         chunks = np.array_split(np.arange(len(data.videos)), 4 * args.n_jobs)
@@ -85,7 +83,7 @@ def main():
     else:
         n_frames = _frames(data.videos)
     t_render = time.perf_counter() - t0
-    rss_render = _rss_mb()
+    rss_render = peak_rss_mb()
     h, w = args.image_size
     print(f"silicone5: {len(data.videos)} presses, {n_frames} frames at {h}x{w}, n_jobs={args.n_jobs} "
           f"(RSS after imports {rss_import:.0f} MB)")
@@ -129,7 +127,7 @@ def _everyday(args):
     print(f"everyday: {n} presses of {len(data.objects)} objects, {sum(len(v) for v in videos)} frames "
           f"at {args.image_size[0]}x{args.image_size[1]}, codec {data.params.get('codec', codec)}")
     print(f"make_presses {t_make:.2f} s; render all {t_render:.1f} s ({1000 * t_render / n:.0f} ms/video); "
-          f"peak RSS {_rss_mb():.0f} MB")
+          f"peak RSS {peak_rss_mb():.0f} MB")
     curves = [contact_curve(v) for v in videos]
     full = data.press_params["n_frames"] == data.params["video_length"]
     pre = np.array([c[:30] for c, f in zip(curves, full) if f])

@@ -35,14 +35,15 @@ import torch
 
 from sklearn_hardness.models import StackedConvLSTMNet
 
-from _memory import peak_rss_mb, reset_peak  # benchmarks/_memory.py, beside this script
-from _reference import matmul_gflops  # benchmarks/_reference.py, beside this script
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb, reset_peak
+from harness.machine import matmul_gflops
 
 
 def matmul_reference(device, n, repeat):
     """Float32 matrix-product GFLOP/s on ``device``."""
     if device.type == "cpu":
-        return matmul_gflops(n, repeat)
+        return matmul_gflops(n, repeat, threads=None)  # on the threads the nets train on
     torch.backends.cuda.matmul.allow_tf32 = False
     gen = torch.Generator(device=device).manual_seed(0)
     a = torch.randn(n, n, device=device, generator=gen)

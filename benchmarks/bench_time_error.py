@@ -41,12 +41,14 @@ import argparse
 import csv
 import json
 import os
-import resource
 import subprocess
 import sys
 import time
 
 import numpy as np
+
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb
 
 #: The paper's settings, from which every configuration changes one knob: 18x24 frames (the
 #: library's default before 12x16) and every epoch trained (the default is early_stopping=5,
@@ -69,10 +71,6 @@ CONFIGS = {
     "2 threads per run": ({}, 2, {}),
     "glibc malloc": ({}, 1, {"LD_PRELOAD": None}),
 }
-
-
-def _peak_rss_mib(who):
-    return resource.getrusage(who).ru_maxrss / 1024
 
 
 def prepare(dataset, memory, model=None, quick=False, **overrides):
@@ -112,7 +110,7 @@ def one_config(name, seeds, n_jobs, cache):
     print(json.dumps({
         "config": name, "runs": len(recs), "converged": sum(r["converged"] for r in recs),
         "s_per_run": float(np.median([r["wall_time"] for r in recs])), "wall": wall,
-        "peak_mib": max(_peak_rss_mib(resource.RUSAGE_SELF), _peak_rss_mib(resource.RUSAGE_CHILDREN)),
+        "peak_mib": max(peak_rss_mb(), peak_rss_mb(children=True)),
         "baseline_error": err("holdout_accuracy", 0), "protocol_error": err("holdout_accuracy", -1),
         "protocol_error_sd": float(np.std([1 - r["holdout_accuracy"][-1] for r in ok])),
         "test_error": err("accuracy", -1),

@@ -2,8 +2,9 @@
 
 Each case runs ``python benchmarks/bench_<name>.py ARGS`` in its own process;
 the runner measures its wall time and the peak resident memory of the process
-and its children (psutil, sampled every 0.2 s, and the process's own maximum), and reads the error or accuracy from
-the last ``result: ...`` line the benchmark printed ("-" where it has none).
+and its children (``harness.memory.TreePeak``, sampled every 0.2 s, and the
+process's own maximum), and reads the error or accuracy from the last
+``result: ...`` line the benchmark printed ("-" where it has none).
 The benchmarks' own output goes to ``--log`` (default ``benchmarks.log``).
 
     python benchmarks/run.py --quick              # every benchmark, small cases (a few minutes on 2 cores)
@@ -11,17 +12,18 @@ The benchmarks' own output goes to ``--log`` (default ``benchmarks.log``).
     python benchmarks/run.py --quick convlstm mc_dropout
     python benchmarks/run.py --list
 
-No benchmark imports another, nor a private module of the package.
+No benchmark imports another, nor a private module of the package; their shared helpers
+(peak memory, the matmul reference) are the development harness's (``harness/``).
 """
 
 import argparse
 import os
 import subprocess
 import sys
-import threading
 import time
 
-import psutil
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import TreePeak
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -77,44 +79,19 @@ def run_case(name, args, log):
     log.flush()
     start = time.perf_counter()
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1)
-    peak = [0]
-    done = threading.Event()
-
-    def sample():  # the tree's resident memory every 0.2 s: joblib's workers count too
-        root = psutil.Process(proc.pid)
-        while not done.wait(0.2):
-            peak[0] = max(peak[0], _tree_rss(root))
-
-    sampler = threading.Thread(target=sample, daemon=True)
-    sampler.start()
     result = "-"
-    for line in proc.stdout:
-        log.write(line)
-        if line.startswith("result: "):
-            result = line[len("result: "):].strip()
-    _, status, usage = os.wait4(proc.pid, 0)  # the child's own peak, with the children it waited for
+    with TreePeak(proc.pid) as tree:  # joblib's workers count too
+        for line in proc.stdout:
+            log.write(line)
+            if line.startswith("result: "):
+                result = line[len("result: "):].strip()
+        _, status, usage = os.wait4(proc.pid, 0)  # the child's own peak, with the children it waited for
     proc.returncode = os.waitstatus_to_exitcode(status)
     wall = time.perf_counter() - start
-    done.set()
-    sampler.join()
-    peak_mb = max(peak[0], usage.ru_maxrss * 1024) / 2**20  # Linux reports ru_maxrss in KiB
+    peak_mb = max(tree.peak_mb, usage.ru_maxrss / 1024)  # Linux reports ru_maxrss in KiB
     if proc.returncode:
         result = f"FAILED (exit {proc.returncode}; see the log)"
     return wall, peak_mb, result
-
-
-def _tree_rss(root):
-    try:
-        procs = [root, *root.children(recursive=True)]
-    except psutil.Error:
-        return 0
-    total = 0
-    for p in procs:
-        try:
-            total += p.memory_info().rss
-        except psutil.Error:
-            pass
-    return total
 
 
 def main(argv=None):

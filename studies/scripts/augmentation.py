@@ -30,8 +30,9 @@ import time
 import numpy as np
 
 from _estimate_modulus import GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
-from _memory import peak_rss_mb
-from _output import write_output
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb
+from harness.provenance import write_output
 from sim_confounds import recall_per_rank
 from sim_to_real import simulated
 from sim_vs_real_stats import parse_param

@@ -7,12 +7,13 @@ runs one ``sklearn-hardness reproduce`` command once per kernel set, each into a
 fresh folder, and compares the runs with those of the first: per strategy, how
 many runs pressed other objects (``queried``) or other presses, how many ended
 at another accuracy, and at which iteration their choices first parted; then
-the lines of ``paired.txt`` that differ. Each run's provenance line says which
-kernels OpenBLAS ran (the machine's ``blas``): a kernel set the CPU cannot run
-is reported, not compared. ``native`` runs with neither ``OPENBLAS_CORETYPE``
-nor ``OPENBLAS_L2_SIZE`` set (OpenBLAS's own choice for the CPU; some machine
-images set both, where older builds fail with that choice); a named kernel set
-keeps ``OPENBLAS_L2_SIZE`` as the environment has it.
+the lines of ``paired.txt`` that differ. The kernels OpenBLAS ran under each
+run's environment (the machine's ``blas``, read by ``harness.machine`` in a
+process with that environment) are reported: a kernel set the CPU cannot run is
+reported, not compared. ``native`` runs with neither ``OPENBLAS_CORETYPE`` nor
+``OPENBLAS_L2_SIZE`` set (OpenBLAS's own choice for the CPU; some machine images
+set both, where older builds fail with that choice); a named kernel set keeps
+``OPENBLAS_L2_SIZE`` as the environment has it.
 
     python studies/scripts/blas_kernels.py --coretypes Haswell SkylakeX Sandybridge -- \\
         --dataset everyday --model contact_profile --strategies thompson random \\
@@ -30,15 +31,19 @@ import tempfile
 import time
 from collections import defaultdict
 
-from _output import report
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.machine import machine_reference
+from harness.provenance import report
 
-# private: the provenance line reproduce writes into table.txt, and the results file it resumes from
-from sklearn_hardness.experiments._provenance import parse_provenance
+# private: the results file reproduce resumes from
 from sklearn_hardness.experiments._results import ResultsStore
 
 
 def run_with_kernels(coretype, reproduce_args, out):
-    """Run ``reproduce`` with ``OPENBLAS_CORETYPE=coretype`` (or OpenBLAS's own choice) into ``out``; its seconds."""
+    """Run ``reproduce`` with ``OPENBLAS_CORETYPE=coretype`` (or OpenBLAS's own choice) into ``out``.
+
+    Returns its seconds and the kernels OpenBLAS ran in that environment (the machine's ``blas``).
+    """
     env = dict(os.environ)
     if coretype == NATIVE:
         env.pop("OPENBLAS_CORETYPE", None)
@@ -48,7 +53,8 @@ def run_with_kernels(coretype, reproduce_args, out):
     t0 = time.perf_counter()
     subprocess.run([sys.executable, "-m", "sklearn_hardness._cli", "reproduce", *reproduce_args,
                     "--out", out, "--quiet"], env=env, check=True, stdout=subprocess.DEVNULL)
-    return time.perf_counter() - t0
+    seconds = time.perf_counter() - t0
+    return seconds, machine_reference(matmul=False, env=env)["blas"]
 
 
 #: The kernel set OpenBLAS picks for the CPU by itself.
@@ -61,12 +67,6 @@ def honoured(coretype, blas):
     if not libraries or not all(part.startswith("openblas") for part in libraries):
         return False
     return coretype == NATIVE or all(part.endswith(coretype) for part in libraries)
-
-
-def kernels_ran(out):
-    """The machine's ``blas`` in the provenance line of the run's ``table.txt``."""
-    with open(os.path.join(out, "table.txt")) as f:
-        return (parse_provenance(f.read()) or {}).get("machine", {}).get("blas")
 
 
 def active_runs(out):
@@ -125,8 +125,7 @@ def main():
         folders, seconds, ran = {}, {}, {}
         for coretype in args.coretypes:
             folders[coretype] = os.path.join(root, coretype)
-            seconds[coretype] = run_with_kernels(coretype, reproduce_args, folders[coretype])
-            ran[coretype] = kernels_ran(folders[coretype])
+            seconds[coretype], ran[coretype] = run_with_kernels(coretype, reproduce_args, folders[coretype])
             print(f"{coretype}: {seconds[coretype]:.0f} s, OpenBLAS ran {ran[coretype]}", file=sys.stderr)
         lines = [f"sklearn-hardness reproduce {' '.join(reproduce_args)}, once per OpenBLAS kernel set "
                  "(OPENBLAS_CORETYPE)", ""]

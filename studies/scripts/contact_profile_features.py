@@ -70,8 +70,9 @@ from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
-from _memory import peak_rss_mb, reset_peak
-from _output import report
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb, reset_peak
+from harness.provenance import report
 from _sim_variants import VARIANTS, variant_params
 from sim_vs_real_stats import parse_param, press_objects
 from sklearn_hardness.features import ContactProfileFeatures

@@ -35,7 +35,8 @@ import warnings
 
 import numpy as np
 
-from _memory import peak_rss_mb, reset_peak
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb, reset_peak
 
 #: Inputs compared across forces: label -> (``features``, position source, ``drive_compliance`` from the preset).
 ACROSS = {
@@ -83,7 +84,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     from sklearn_hardness.model_selection import evaluate_pipelines
 
-    from _output import report
+    from harness.provenance import report
 
     t0 = time.perf_counter()
     reset_peak()

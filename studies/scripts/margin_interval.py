@@ -54,8 +54,9 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import FunctionTransformer
 from sklearn.utils import Bunch
 
-from _memory import peak_rss_mb
-from _output import report
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb
+from harness.provenance import report
 from sklearn_hardness.model_selection import evaluate_pipelines
 
 N_OBJECTS, PER_OBJECT, CV = 42, 4, 5

@@ -12,10 +12,12 @@ otherwise it is left out.
 """
 
 import argparse
-import resource
 import time
 
 from sklearn_hardness.experiments import baseline_table, run_model_baselines
+
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb
 
 PAPER = {"convlstm": "42%", "dinov2nn": "38%", "ofnn": "27%"}
 
@@ -51,7 +53,7 @@ def main():
             n_jobs=args.n_jobs, verbose=0, **config,
         )
         dt = time.perf_counter() - t0
-        rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+        rss = peak_rss_mb()  # over the process's life: the runs so far
         row = baseline_table(result)[0]
         label = name + (f" {extra['frame_size'][0]}x{extra['frame_size'][1]}" if extra else "")
         acc = f"{100 * row['accuracy_mean']:.1f}% +- {100 * row['accuracy_std']:.1f}%"

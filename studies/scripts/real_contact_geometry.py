@@ -33,7 +33,8 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.preprocessing import StandardScaler
 from sklearn.utils import Bunch
 
-from _output import header
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.provenance import header
 from sklearn_hardness.datasets import load_press_videos
 from sklearn_hardness.features import ContactGeometryFeatures, ContactProfileFeatures
 from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation

@@ -20,7 +20,8 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from _output import report  # noqa: E402
+import _harness  # noqa: E402,F401 - puts the repository root on sys.path
+from harness.provenance import report  # noqa: E402
 
 from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation  # noqa: E402
 from sklearn_hardness.models import make_named_pipeline  # noqa: E402

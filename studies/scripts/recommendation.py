@@ -24,8 +24,9 @@ import time
 
 import numpy as np
 
-from _memory import peak_rss_mb
-from _output import report
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb
+from harness.provenance import report
 from sim_vs_real_stats import parse_param
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.model_selection import evaluate_pipelines

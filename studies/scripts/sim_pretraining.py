@@ -48,8 +48,9 @@ import numpy as np
 from joblib import Parallel, delayed, effective_n_jobs
 
 from _estimate_modulus import GEL_ROI
-from _memory import peak_rss_mb, reset_peak
-from _output import report
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb, reset_peak
+from harness.provenance import report
 from _sim_variants import VARIANTS, variant_params
 from sim_to_real import named_pipeline
 from training_objects import add_run_arguments, margin_cell, scores, simulated_rows, wedge_rows

@@ -47,8 +47,9 @@ from collections import Counter
 
 import numpy as np
 
-from _memory import peak_rss_mb, reset_peak
-from _output import write_output
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb, reset_peak
+from harness.provenance import write_output
 from _sim_variants import VARIANTS, variant_params
 
 #: Held-out real GelSight Mini presses (real_presses_stats.md), median per rank.

@@ -46,8 +46,9 @@ from scipy import stats
 from sklearn.metrics import balanced_accuracy_score
 
 from _estimate_modulus import GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
-from _memory import peak_rss_mb, reset_peak
-from _output import report
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.memory import peak_rss_mb, reset_peak
+from harness.provenance import report
 from sim_to_real import named_pipeline
 from sim_vs_real_stats import parse_param
 # private: --set parsed as the command line parses it; the per-press prefixes, run once per set and cached

@@ -52,7 +52,8 @@ import warnings
 import numpy as np
 
 from _estimate_modulus import FAMILIES, expected_rank, family_pairs, load_grasp_forces
-from _output import report
+import _harness  # noqa: F401 - puts the repository root on sys.path
+from harness.provenance import report
 
 
 def grasp_figures(force, width, onset):

@@ -1,0 +1,192 @@
+"""The header of a study's output: the command, the commit, the date and the machine.
+
+    python -m harness.provenance OUT/table.txt ...   # stamp command-line outputs for the studies
+
+A figure is read against what made it: the command (a data folder named by its
+role, ``--data EXAMPLE_DATA``, never by a path of one machine), the commit it ran
+at and the machine with its one-thread matmul rate (:mod:`harness.machine`). The
+header records; nothing compares it with the current code (an output is rerun when
+its question is revisited).
+"""
+
+from __future__ import annotations
+
+import datetime
+import os
+import shlex
+import subprocess
+import sys
+
+from . import ROOT
+from .machine import describe, machine_reference
+
+__all__ = ["git_commit", "script_command", "header", "write_output", "report", "stamp"]
+
+#: Options whose value is where output goes, not what was computed.
+_WHERE = {"--out", "--cache"}
+#: Options whose value is a data folder: named by its role in the command.
+_DATA = {"--data", "--manifest"}
+
+
+def git_commit(path=ROOT):
+    """HEAD of the repository holding ``path``, with ``" (uncommitted changes)"`` where tracked files changed.
+
+    Parameters
+    ----------
+    path : str, default=ROOT
+        A folder inside the repository.
+
+    Returns
+    -------
+    commit : str or None
+        Ten hex digits (and the note); None outside a git checkout or without git.
+    """
+    run = dict(capture_output=True, text=True, check=True, timeout=10)
+    try:
+        commit = subprocess.run(["git", "-C", path, "rev-parse", "--short=10", "HEAD"], **run).stdout.strip()
+        dirty = subprocess.run(["git", "-C", path, "status", "--porcelain", "--untracked-files=no"],
+                               **run).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return commit + (" (uncommitted changes)" if dirty else "") if commit else None
+
+
+def script_command(argv):
+    """A script's command line as a reader would type it from the repository root.
+
+    Where output goes (``--out``, ``--cache``) is left out; data folders
+    (``--data``, ``--manifest``) are named by their role.
+
+    Parameters
+    ----------
+    argv : list of str
+        ``sys.argv`` of the script.
+
+    Returns
+    -------
+    command : str
+
+    Examples
+    --------
+    >>> import os
+    >>> from harness import ROOT
+    >>> from harness.provenance import script_command
+    >>> script_command([os.path.join(ROOT, "studies", "scripts", "s.py"), "--data", "/x/example_data",
+    ...                 "--out", "o.txt", "--seed", "1"])
+    'python studies/scripts/s.py --data EXAMPLE_DATA --seed 1'
+    """
+    args, skip = [], False
+    for i, arg in enumerate(argv[1:], 1):
+        if skip:
+            skip = False
+            continue
+        if arg in _WHERE:
+            skip = True
+            continue
+        if argv[i - 1] in _DATA:
+            arg = "EXAMPLE_DATA" if os.path.basename(arg.rstrip("/")) == "example_data" else "DATA"
+        args.append(arg)
+    script = os.path.relpath(os.path.abspath(argv[0]), ROOT)
+    if script.startswith(".."):
+        script = os.path.basename(argv[0])
+    return shlex.join(["python", script.replace(os.sep, "/"), *args])
+
+
+def header(argv=None, *, machine=None, commit=None, date=None):
+    """The three header lines of an output made by ``argv`` (default ``sys.argv``).
+
+    Parameters
+    ----------
+    argv : list of str or None, default=None
+        The script's command line.
+    machine : dict or None, default=None
+        :func:`~harness.machine.machine_reference` (measured when None).
+    commit : str or None, default=None
+        :func:`git_commit` when None.
+    date : str or None, default=None
+        ISO date and time in UTC (now when None).
+
+    Returns
+    -------
+    lines : str
+        ``# command: ...``, ``# commit: ..., DATE`` and ``# machine: ...``.
+
+    Examples
+    --------
+    >>> from harness.provenance import header
+    >>> machine = {"cpu": "Xeon", "cores": 2, "matmul_gflops": 80.0, "torch": "2.1", "numpy": "2.0",
+    ...            "python": "3.11.7", "blas": None}
+    >>> print(header(["s.py", "--seed", "1"], machine=machine, commit="f00", date="2026-01-01T00:00Z"))
+    # command: python s.py --seed 1
+    # commit: f00, 2026-01-01T00:00Z
+    # machine: Xeon, 2 cores, matmul 80 GFLOP/s (one thread), torch 2.1, numpy 2.0, Python 3.11.7, BLAS None
+    """
+    argv = sys.argv if argv is None else argv
+    commit = (git_commit() or "unknown") if commit is None else commit
+    date = date or datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%MZ")
+    return f"# command: {script_command(argv)}\n# commit: {commit}, {date}\n{_machine_line(machine)}"
+
+
+def write_output(path, text):
+    """Write ``text`` to ``path`` after :func:`header`."""
+    with open(path, "w") as f:
+        f.write(header() + "\n" + text + "\n")
+
+
+def report(text, out=None):
+    """Print ``text``; with ``out``, also write it there after the header (:func:`write_output`)."""
+    print(text)
+    if out:
+        write_output(out, text)
+
+
+def _machine_line(machine):
+    return f"# machine: {describe(machine_reference() if machine is None else machine)}"
+
+
+def stamp(path, *, machine=None, commit=None):
+    """Add the commit and the machine to an output of ``sklearn-hardness`` kept for the studies.
+
+    ``evaluate`` and ``reproduce`` head what they write with a cheap line
+    (command, version, date, platform); run right after the command, this adds
+    ``# commit: ...`` and ``# machine: ...`` (with the one-thread matmul rate)
+    below it.
+
+    Parameters
+    ----------
+    path : str or path-like
+        ``table.txt``, ``paired.txt`` or ``evaluation.txt``.
+    machine, commit
+        As in :func:`header`.
+
+    Returns
+    -------
+    changed : bool
+        False where the file has its commit line already.
+    """
+    with open(path) as f:
+        lines = f.read().split("\n")
+    if not lines[0].startswith("# provenance "):
+        raise ValueError(f"{path} does not start with the header line of sklearn-hardness evaluate or reproduce.")
+    if len(lines) > 1 and lines[1].startswith("# commit: "):
+        return False
+    commit = (git_commit() or "unknown") if commit is None else commit
+    lines[1:1] = [f"# commit: {commit}", _machine_line(machine)]
+    with open(path, "w") as f:
+        f.write("\n".join(lines))
+    return True
+
+
+def main(argv=None):
+    import argparse
+
+    ap = argparse.ArgumentParser(description="Add the commit and the machine to outputs of sklearn-hardness.")
+    ap.add_argument("paths", nargs="+", help="files headed by the command line's provenance line")
+    args = ap.parse_args(argv)
+    machine = machine_reference()
+    for path in args.paths:
+        print(f"{'stamped' if stamp(path, machine=machine) else 'already stamped'}: {path}")
+
+
+if __name__ == "__main__":
+    main()
