@@ -61,7 +61,6 @@ WRONG_INVOCATIONS = {
     "paper protocol with --test-objects": ["reproduce", "--protocol", "paper", "--test-objects", "x",
                                            "--out", "{tmp}/rep"],
     "paper protocol with --model": ["reproduce", "--protocol", "paper", "--model", "ofnn", "--out", "{tmp}/rep"],
-    "--readme without the table block": ["reproduce", "--quick", "--readme", "{tmp}/README.md", "--out", "{tmp}/r"],
     "unknown preset (simulate)": ["simulate", "--preset", "foo", "--out", "{tmp}/sim"],
     "--n-jobs 0 (simulate)": ["simulate", "--n-jobs", "0", "--out", "{tmp}/sim"],
     "image size 0": ["simulate", "--image-size", "0", "10", "--out", "{tmp}/sim"],
@@ -75,9 +74,6 @@ WRONG_INVOCATIONS = {
     "--roi upside down (evaluate)": ["evaluate", "everyday", "--roi", "0.9", "0.1", "0", "1"],
     "--roi of three numbers (evaluate)": ["evaluate", "everyday", "--roi", "0.1", "0.9", "0"],
     "--roi upside down (select)": ["select", "{tmp}/nope.csv", "--roi", "0.9", "0.1", "0", "1"],
-    "unknown strategy (benchmark)": ["benchmark", "--strategy", "foo"],
-    "unknown --set key (benchmark)": ["benchmark", "--set", "n_iteration=2"],
-    "--threads 0": ["benchmark", "--threads", "0"],
     "cache of a missing --out": ["cache", "--out", "{tmp}/nope", "--clear"],
     "missing required --out": ["simulate"],
 }
@@ -86,7 +82,6 @@ WRONG_INVOCATIONS = {
 @pytest.mark.parametrize("argv", WRONG_INVOCATIONS.values(), ids=WRONG_INVOCATIONS.keys())
 def test_wrong_invocation_is_one_error_line_and_writes_nothing(argv, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)  # default output folders (./hardness_results, ...) would land here
-    (tmp_path / "README.md").write_text("# no table markers\n")
     before = sorted(p.name for p in tmp_path.rglob("*"))
     with pytest.raises(SystemExit) as info:
         main([a.format(tmp=tmp_path) for a in argv])
@@ -189,9 +184,8 @@ def test_names_offered_by_the_parser_are_the_library_s():
     assert pipelines == PIPELINE_NAMES
 
     assert set(DEFAULT_PIPELINES) <= set(pipelines) and "peak_change" not in DEFAULT_PIPELINES  # baseline: always
-    for command in ("reproduce", "benchmark"):
-        models, _ = choices(command, "model")
-        assert tuple(models) == tuple(MODEL_NAMES)
+    models, _ = choices("reproduce", "model")
+    assert tuple(models) == tuple(MODEL_NAMES)
     from sklearn_hardness.experiments import get_config
 
     assert all(make_estimator(m, get_config(), 0, 3) is not None for m in MODEL_NAMES)
@@ -210,13 +204,13 @@ def test_every_set_key_is_documented_in_help_and_docstring(capsys):
         assert f"``{key}``" in get_config.__doc__
         assert f"\n  {key} " in text, key
     assert "variance entropy random bald" in " ".join(text.split())  # the strategies, filled in when help is shown
-    for sub in ("select", "record", "simulate", "benchmark", "evaluate", "cache"):
+    for sub in ("select", "record", "simulate", "evaluate", "cache"):
         with pytest.raises(SystemExit):
             main([sub, "--help"])
         assert "--quiet" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("command", ["select", "record", "simulate", "reproduce", "benchmark", "evaluate", "cache"])
+@pytest.mark.parametrize("command", ["select", "record", "simulate", "reproduce", "evaluate", "cache"])
 def test_every_option_has_help(command):
     from sklearn_hardness._cli import build_parser
 

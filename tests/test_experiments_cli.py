@@ -4,9 +4,9 @@ import os
 
 import pytest
 
-from sklearn_hardness._cli import build_parser, main
-from sklearn_hardness._cli._reproduce import _reproduce_config_hash
-from sklearn_hardness.experiments._provenance import parse_provenance
+from harness.config_hash import planned_config_hash  # the development harness at the repository root
+from sklearn_hardness._cli import main
+from sklearn_hardness._cli._header import read_header
 from sklearn_hardness.io import write_video
 
 from ._exp_data import tiny_presses, write_object_manifest
@@ -44,10 +44,10 @@ def test_reproduce_on_a_manifest(manifest, tmp_path, capsys):
             "entropy.png", "variance.png"} <= files
     paired = (out / "paired.txt").read_text()
     assert "- random [95% CI]" in paired and "presses_at_stop" in paired and "variance" in paired
-    # both tables start with their provenance; the config hash is the one planned from the command
-    record = parse_provenance((out / "table.txt").read_text())
-    assert parse_provenance(paired) == record and record["command"].startswith("sklearn-hardness reproduce --dataset")
-    assert record["config_hash"] == _reproduce_config_hash(build_parser().parse_args(args))
+    # both tables start with their header; its config hash is the one the harness plans from the command
+    record = read_header((out / "table.txt").read_text())
+    assert read_header(paired) == record and record["command"].startswith("sklearn-hardness reproduce --dataset")
+    assert record["config_hash"] == planned_config_hash(["sklearn-hardness", *args])
     lines = (out / "results.jsonl").read_text().splitlines()
     assert len(lines) == 2 * 5  # strategies x test objects x 1 seed
     cfg = json.loads((out / "config.json").read_text())
@@ -95,16 +95,3 @@ def test_reproduce_help_and_bad_input(capsys, tmp_path):
     with pytest.raises(SystemExit, match="2"):
         main(["reproduce", "--strategies", "uncertainty", "--out", str(tmp_path), "--dataset", "x.csv"])
     assert "strategy" in capsys.readouterr().err
-
-
-def test_benchmark_subcommand(capsys, monkeypatch):
-    # a tiny preset-free check of the command's wiring: override the simulator size through --set
-    from sklearn_hardness.experiments import _data
-
-    monkeypatch.setattr(_data, "load_dataset", lambda dataset, cfg: tiny_presses())
-    args = ["benchmark", "--model", "ofnn", "--set", "n_iterations=1", "n_per_query=2", "n_initial=2",
-            "n_test=2", "initial_epochs=2", "epochs_per_query=1", "n_mc_samples=3", "frame_size=(16,20)",
-            "data_seed=12345"]
-    assert main(args) == 0
-    out = capsys.readouterr().out
-    assert "one run" in out and "peak RSS" in out and "accuracy per iteration" in out

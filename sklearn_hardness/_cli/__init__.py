@@ -1,9 +1,9 @@
 """The ``sklearn-hardness`` command line.
 
 Each subcommand lives in its own module (``_select``, ``_record``,
-``_reproduce``, ``_simulate``, ``_evaluate``, ``_benchmark``, ``_cache``) as an
-``_add_<name>`` / ``_run_<name>`` pair registered in :data:`_SUBCOMMANDS`;
-what they share is in ``_common``.
+``_reproduce``, ``_simulate``, ``_evaluate``, ``_cache``) as an ``_add_<name>`` /
+``_run_<name>`` pair registered in :data:`_SUBCOMMANDS`; what they share is in
+``_common``, the header line of their outputs in ``_header``.
 
 Building the parser imports nothing heavy (no torch, skorch or scikit-learn):
 ``--help`` and ``--version`` answer at once, and help texts that name values of
@@ -19,7 +19,6 @@ import signal
 import sys
 
 from .. import __version__
-from ._benchmark import _add_benchmark, _run_benchmark
 from ._cache import _add_cache, _run_cache
 from ._common import _Parser, _UsageError
 from ._evaluate import _add_evaluate, _run_evaluate
@@ -35,7 +34,6 @@ _SUBCOMMANDS = {
     "record": (_add_record, _run_record),
     "simulate": (_add_simulate, _run_simulate),
     "reproduce": (_add_reproduce, _run_reproduce),
-    "benchmark": (_add_benchmark, _run_benchmark),
     "evaluate": (_add_evaluate, _run_evaluate),
     "cache": (_add_cache, _run_cache),
 }

@@ -123,7 +123,7 @@ def _parse_set(items):
     return out
 
 
-_NOT_RESULTS = {"--out": 1, "--readme": 1, "--quiet": 0}  # options that do not change a table
+_NOT_RESULTS = {"--out": 1, "--quiet": 0}  # options that do not change a table
 
 
 def _reproduce_command(argv):

@@ -68,7 +68,7 @@ def _run_evaluate(args):
 
     import numpy as np
 
-    from ..experiments._provenance import parse_provenance, provenance_header
+    from ._header import output_header, read_header
     from ..model_selection import evaluate_pipelines, format_evaluation, plot_confusion_matrices
     from ..utils._validation import check_roi
 
@@ -91,8 +91,8 @@ def _run_evaluate(args):
     print(table)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    # what made the table: the command (less where its output goes), code fingerprint, machine
-    provenance = provenance_header(_reproduce_command(getattr(args, "argv", None) or sys.argv[1:]))
+    # what made the table: the command (less where its output goes), version, date, platform
+    provenance = output_header(_reproduce_command(getattr(args, "argv", None) or sys.argv[1:]))
     (out / "evaluation.txt").write_text(provenance + "\n" + table + "\n")
     plot_confusion_matrices(result, out / "confusion_matrices.png")
     rows = [{k: (list(v) if isinstance(v, tuple) else v) for k, v in r.items()} for r in result.table]
@@ -101,7 +101,7 @@ def _run_evaluate(args):
          "object_fold_scores": {k: v.tolist() for k, v in result.object_fold_scores.items()},
          "n_repeats": result.n_repeats, "notes": result.notes,
          "recommended": result.recommended, "recommended_with_samples": result.recommended_with_samples,
-         "target_names": result.target_names.tolist(), "provenance": parse_provenance(provenance)}))
+         "target_names": result.target_names.tolist(), "provenance": read_header(provenance)}))
     if not args.quiet:
         print(f"wrote {out / 'evaluation.txt'}, {out / 'confusion_matrices.png'} and {out / 'evaluation.json'}",
               file=sys.stderr)

@@ -46,46 +46,6 @@ def _config_keys_epilog():
         f"  {key:<{width}}  {meaning}" for key, meaning in KEY_HELP.items())
 
 
-_README_START = "<!-- reproduce-quick-table: start -->"
-_README_END = "<!-- reproduce-quick-table: end -->"
-_README_PROVENANCE = ("command", "commit", "date")
-
-
-def _readme_provenance(record):
-    """The README block's header: command, commit, date and the machine with its matrix-product rate."""
-    machine = record["machine"]
-    return {**{k: record[k] for k in _README_PROVENANCE},
-            "machine": f"{machine['cpu']}, {machine['cores']} cores, matmul {machine['matmul_gflops']} GFLOP/s"}
-
-
-def _readme_block(path):
-    """The text of ``path`` and the offsets of its table markers (a usage error if it has none)."""
-    try:
-        with open(path) as f:
-            text = f.read()
-    except OSError as exc:
-        raise _UsageError(f"cannot read --readme {path!r}: {exc.strerror or exc}") from exc
-    start, end = text.find(_README_START), text.find(_README_END)
-    if start < 0 or end < start:
-        raise _UsageError(f"{path} has no '{_README_START}' ... '{_README_END}' block to write the table into")
-    return text, start, end
-
-
-def _write_readme_table(path, table, provenance=None):
-    """Replace the block between the README markers by ``table`` (in a code fence).
-
-    ``provenance`` (a dict: command, commit, date, machine) goes on an HTML comment
-    line above the fence: what made the table, not a check of it.
-    """
-    text, start, end = _readme_block(path)
-    comment = f"\n<!-- provenance {json.dumps(provenance)} -->" if provenance else ""
-    new = text[: start + len(_README_START)] + comment + "\n```\n" + table + "\n```\n" + text[end:]
-    if new != text:
-        with open(path, "w") as f:
-            f.write(new)
-    return new != text
-
-
 def _add_reproduce(sub):
     p = sub.add_parser(
         "reproduce",
@@ -137,10 +97,6 @@ def _add_reproduce(sub):
                    "with 95%% paired "
                    "intervals and p-values against random and accuracy on held-out presses of every "
                    "object; writes OUT/summary.txt")
-    p.add_argument("--readme", default=None, metavar="PATH",
-                   help="write the comparison table into PATH (a README) between the lines "
-                   f"'{_README_START}' and '{_README_END}'; README.md's table is made with "
-                   "'reproduce --quick --n-jobs 2 --readme README.md'")
     _add_quiet(p, "progress (by default a line per finished run with elapsed time and an estimate of "
                "the rest goes to stderr)")
     return p
@@ -180,8 +136,6 @@ def _reproduce_config(args):
     config = _parse_set(args.set)
     if args.epochs:
         config["initial_epochs"], config["epochs_per_query"] = args.epochs
-    if args.readme:
-        _readme_block(args.readme)
     _check_out_dir(args.out)
     presets = ["silicone5", "shore9"] if args.protocol == "paper" else [args.preset]
     with _user_errors():
@@ -203,18 +157,6 @@ def _reproduce_config(args):
     return config
 
 
-
-def _reproduce_config_hash(args):
-    """The config hash of a ``reproduce --protocol active`` command (None for the whole protocol)."""
-    from ..experiments._active import planned_config_hash
-
-    if args.protocol != "active":
-        return None
-    config = _reproduce_config(args)
-    return planned_config_hash(args.dataset or args.preset, preset=args.preset, model=args.model,
-                               n_runs=args.n_runs, quick=args.quick, **config)
-
-
 def _run_reproduce(args):
     import time
 
@@ -229,7 +171,7 @@ def _run_reproduce(args):
         run_active_sampling,
         save_figures,
     )
-    from ..experiments._provenance import parse_provenance, provenance_header
+    from ._header import output_header
 
     config = _reproduce_config(args)
     if args.protocol == "paper":
@@ -283,7 +225,7 @@ def _run_reproduce(args):
     print(table)
     print(note)
     command = _reproduce_command(getattr(args, "argv", None) or sys.argv[1:])
-    provenance = provenance_header(command, config_hash=cfg["config_hash"])
+    provenance = output_header(command, config_hash=cfg["config_hash"])  # the runs' key in results.jsonl
     with open(os.path.join(args.out, "table.txt"), "w") as f:
         f.write(provenance + "\n" + header + "\n" + table + "\n" + note + "\n")
     if "random" in cfg["strategies"] and len(cfg["strategies"]) > 1:
@@ -303,9 +245,6 @@ def _run_reproduce(args):
         print(paired)
         with open(os.path.join(args.out, "paired.txt"), "w") as f:
             f.write(provenance + "\n" + header + "\n" + paired + "\n")
-    if args.readme:
-        changed = _write_readme_table(args.readme, table, _readme_provenance(parse_provenance(provenance)))
-        print(f"{'updated' if changed else 'unchanged'}: the table in {args.readme}")
     with open(os.path.join(args.out, "config.json"), "w") as f:
         json.dump({k: v for k, v in cfg.items()}, f, indent=2, default=repr)
     paths = save_figures(result, args.out)

@@ -14,12 +14,12 @@ import numpy as np
 from .._experiment_names import STRATEGIES
 from ..active._strategies import check_strategies
 from ._config import config_hash, resolve_convergence_threshold, run_config
-from ._data import _dataset_spec, load_dataset, prepare_inputs
+from ._data import prepare_inputs
 from ._results import ExperimentResult, ResultsStore
 from ._run import _active_pair, _seeds, _split_objects
 from ._runner import run_tasks
 
-__all__ = ["run_active_sampling", "planned_config_hash", "STRATEGIES"]
+__all__ = ["run_active_sampling", "STRATEGIES"]
 
 
 def _has_objects(object_id, y):
@@ -102,45 +102,6 @@ def _dataset_name(dataset):
     if isinstance(dataset, str) or hasattr(dataset, "__fspath__"):
         return str(dataset)
     return "a Bunch"
-
-
-def planned_config_hash(dataset="silicone5", *, preset=None, model=None, n_runs=None, quick=False, **config):
-    """The configuration hash :func:`run_active_sampling` gives these arguments, without running.
-
-    It keys the runs in a results file and is written into the provenance of
-    the tables made from them (:func:`provenance_header`), so a test can tell
-    whether a table's configuration is still what the code computes.
-
-    Parameters
-    ----------
-    dataset : str or path-like, default="silicone5"
-        A simulator preset or a manifest CSV path (as in :func:`run_active_sampling`;
-        an in-memory Bunch has no hash before its inputs are computed).
-    preset, model, n_runs, quick, **config
-        As in :func:`run_active_sampling`.
-
-    Returns
-    -------
-    config_hash : str
-        The hash stored in the records' ``key["config"]``.
-
-    Examples
-    --------
-    >>> from sklearn_hardness.experiments._active import planned_config_hash
-    >>> len(planned_config_hash("silicone5", quick=True))
-    12
-    """
-    cfg, _ = run_config(dataset, preset, model, n_runs, quick, config)
-    spec = _dataset_spec(dataset, cfg)
-    if spec is None:
-        raise ValueError("dataset must be a simulator preset or a manifest CSV path to hash it before a run.")
-    data = load_dataset(dataset, cfg)  # lazy videos: labels and object ids only
-    y = np.asarray(data["target"])
-    object_id = data.get("object_id")
-    object_id = None if object_id is None else np.asarray(object_id)
-    n_classes = max(len(data.get("target_names", ())), int(y.max()) + 1)  # as prepare_inputs counts them
-    resolve_convergence_threshold(cfg, n_classes)
-    return _results_hash(cfg, list(spec), object_id, y)
 
 
 def _results_hash(cfg, data_id, object_id, y):
