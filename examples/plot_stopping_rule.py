@@ -46,7 +46,7 @@ for test_object in range(len(names)):
     oracle = PressOracle(frames[pool], y[pool], random_state=test_object)
     clf = ConvLSTMClassifier(dropout=0.2, random_state=test_object)
     learner = ActiveLearner(
-        clf, "margin", initial_epochs=40, epochs_per_query=10, n_mc_samples=10,
+        clf, "margin", initial_epochs=40, epochs_per_query=10, n_samples=10,
         stop_threshold=0.7, stop_patience=2, max_presses=20, random_state=test_object,
     )
     learner.fit(*oracle.initial(3))

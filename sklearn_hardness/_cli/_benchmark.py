@@ -42,7 +42,7 @@ def _run_benchmark(args):
     cfg, r = rep["config"], rep["record"]
     print(f"{args.preset}: {cfg['model']}, strategy {args.strategy}, e0={cfg['initial_epochs']} "
           f"e={cfg['epochs_per_query']} M={cfg['max_reservoir']} N={cfg['n_iterations']} "
-          f"MC={cfg['n_mc_samples']}, torch threads {rep['torch_threads']}" + (" [quick]" if args.quick else ""))
+          f"MC={cfg['n_samples']}, torch threads {rep['torch_threads']}" + (" [quick]" if args.quick else ""))
     print(f"prepare all presses  {rep['prepare_s']:8.1f} s")
     print(f"one run              {rep['run_wall_s']:8.1f} s wall, {rep['run_cpu_s']:.1f} s CPU; "
           f"peak RSS {rep['peak_rss_mib']:.0f} MiB")

@@ -274,7 +274,7 @@ def run_active_sampling(
     **config
         Overrides of the configuration: ``initial_epochs``,
         ``epochs_per_query``, ``max_reservoir``, ``n_initial``,
-        ``n_per_query``, ``n_iterations``, ``n_test``, ``n_holdout``, ``n_mc_samples``,
+        ``n_per_query``, ``n_iterations``, ``n_test``, ``n_holdout``, ``n_samples``,
         ``dropout``, ``dropout_placement`` (ConvLSTM), ``lr``, ``batch_size``, ``frame_size``, ``color``,
         ``n_between``, ``convergence_threshold``, ``image_size``,
         ``data_seed``, ``dinov2_model``.

@@ -67,7 +67,7 @@ def run_paper_protocol(out, *, strategies=STRATEGIES, n_runs=None, quick=False, 
         unit = cfg.get("hardness_unit")
         parts += [
             f"== {preset}: {model}, e0={cfg['initial_epochs']} e={cfg['epochs_per_query']} "
-            f"M={cfg['max_reservoir']} N={cfg['n_iterations']} MC={cfg['n_mc_samples']} lr={cfg['lr']:g}, "
+            f"M={cfg['max_reservoir']} N={cfg['n_iterations']} MC={cfg['n_samples']} lr={cfg['lr']:g}, "
             f"{seeds} seeds x every test object" + (" [quick]" if quick else ""),
             f"-- model baselines ({cfg['n_initial']} presses per object, mean +- std over {seeds} seeds)",
             format_table(baseline_table(base), mae_unit=unit),
