@@ -92,8 +92,8 @@ plt.show()
 # Over many paired runs
 # ---------------------
 # One session per object is an anecdote. The experiments replay the same kind
-# of rule on every finished run (:func:`~sklearn_hardness.experiments.decision_stop`,
-# on the votes of the test presses) and report, per strategy, the presses used
-# and the accuracy at the stop with 95% paired intervals
+# of rule on every finished run (on the votes of the test presses: the decision
+# is settled when 80% of them agree for 2 iterations) and report, per strategy,
+# the presses used and the accuracy at the stop with 95% paired intervals
 # (``presses_at_stop`` and ``accuracy_at_stop`` in
 # :func:`~sklearn_hardness.experiments.paired_table`).

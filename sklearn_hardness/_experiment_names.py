@@ -51,7 +51,7 @@ KEY_HELP = {
                       "epochs (None: every epoch)",
     "convergence_threshold": "runs whose initial training loss exceeds it are skipped ('auto': for the "
                              "ConvLSTM 1.0 at 5 classes, the same fraction of chance loss ln K at K classes "
-                             "(models.chance_scaled_threshold); None otherwise)",
+                             "(models.is_converged with threshold='chance'); None otherwise)",
     "dropout_placement": "ConvLSTM only: 'head' (on the pooled features, default), 'layers' (after each "
                          "ConvLSTM layer, the paper's) or 'channels' (one mask per channel map)",
     "n_between": "frames kept between the first and the last contact frame",

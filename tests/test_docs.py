@@ -9,6 +9,8 @@ import pytest
 
 import sklearn_hardness
 
+from ._references import dangling_references
+
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 SUBPACKAGES = [name for name in sklearn_hardness.__all__ if not name.startswith("_")]
 #: Public modules below a subpackage, documented by their dotted path.
@@ -94,3 +96,20 @@ def test_every_user_guide_page_is_in_the_toctree():
     pages = {p.stem for p in (DOCS / "user_guide").glob("*.rst")} - {"index"}
     missing = sorted(p for p in pages if not re.search(rf"^\s+{p}\s*$", index, flags=re.M))
     assert not missing, f"user guide pages not in docs/user_guide/index.rst: {missing}"
+
+
+def _prose():
+    """(path, line number, line) of README, the docs' pages and the examples' comments."""
+    root = DOCS.parent
+    pages = [root / "README.md", *DOCS.glob("*.md"), *DOCS.glob("*.rst"), *(DOCS / "user_guide").glob("*.rst")]
+    for path in pages + sorted((root / "examples").glob("*.py")):
+        for number, line in enumerate(path.read_text().splitlines(), 1):
+            if path.suffix != ".py" or line.lstrip().startswith("#"):
+                yield path.relative_to(root), number, line
+
+
+def test_prose_cites_only_public_names():
+    # Sphinx checks the roles (nitpicky); this checks plain-text and literal names, and README
+    dangling = [f"{path}:{number}: {ref}" for path, number, line in _prose() for ref in dangling_references(line)]
+    assert not dangling, f"references to names that are not public: {dangling}"
+

@@ -296,7 +296,7 @@ def _run_reproduce(args):
         ) + "\n\n" + format_paired_table(paired_table(result)) + (
             "\nConverged runs; differences and p-values over the pairs where both runs converged. "
             "presses_at_stop / accuracy_at_stop: reference presses used and test accuracy when the "
-            "vote of the test presses is settled (experiments.decision_stop: 80% agree, 2 iterations); "
+            "vote of the test presses is settled (80% of them agree for 2 iterations); "
             "accuracy: on the test object's presses after the budget; holdout_accuracy: on held-out "
             "presses of other objects."
         )

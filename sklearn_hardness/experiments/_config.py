@@ -96,7 +96,7 @@ PRESET_CONFIGS = {
         epochs_per_query=50,  # e
         max_reservoir=40,  # M
         # "auto": for the ConvLSTM the paper's loss <= 1 at 5 classes, ln(K) / ln(5) at K classes
-        # (models.chance_scaled_threshold; resolve_convergence_threshold); None for the others
+        # (models.is_converged(threshold="chance"); resolve_convergence_threshold); None for the others
         convergence_threshold="auto",
         n_runs=10,  # seeds per test class: 5 x 10 = 50 runs per strategy
     ),
@@ -128,7 +128,8 @@ def get_config(preset="silicone5", *, quick=False, **overrides):
     preset : {"silicone5", "shore9"}, default="silicone5"
         Which of the paper's setups to start from.
     quick : bool, default=False
-        Apply :data:`QUICK_OVERRIDES` (a first look in minutes).
+        A first look in minutes: smaller images and frames, fewer epochs,
+        MC passes and runs (listed by ``sklearn-hardness reproduce --help``).
     **overrides
         Any key of the configuration:
 
@@ -264,7 +265,7 @@ def resolve_convergence_threshold(cfg, n_classes):
 
     The paper's rule ("loss > 1 after initial training": not converged) is for
     the ConvLSTM on 5 classes; ``"auto"`` keeps its fraction of chance loss
-    ``ln K`` (:func:`~sklearn_hardness.models.chance_scaled_threshold`), so 1.0
+    ``ln K`` (:func:`~sklearn_hardness.models.is_converged` with ``threshold="chance"``), so 1.0
     at 5 classes (the hash of ``silicone5`` runs is the same as before) and
     1.365 at 9 (``shore9``: a new hash, its runs judged at 1.0 are not reread).
     Called by the experiments once the data give ``n_classes``, before the

@@ -7,7 +7,7 @@ downloaded on our machines, pass ``dinov2_model`` to add it to the
 baselines). On ``shore9`` the ConvLSTM learns well above chance where OFNN
 stays near it (evidence: ``studies/pages/thompson_vs_random.md``); its runs
 are judged by the convergence rule scaled to 9 classes
-(:func:`~sklearn_hardness.models.chance_scaled_threshold`).
+(:func:`~sklearn_hardness.models.is_converged` with ``threshold="chance"``).
 Every run goes to one results file, so an interrupted protocol resumes where
 it stopped.
 """
