@@ -98,7 +98,7 @@ def one_run(args):
     print(f"one {args.model} active-sampling run, silicone5, strategy={args.strategy}, test object 0, "
           f"seed {args.seed}, torch threads={args.threads}")
     print(f"  e0={cfg['initial_epochs']} e={cfg['epochs_per_query']} M={cfg['max_reservoir']} "
-          f"s0=s={cfg['n_initial']} N={cfg['n_iterations']} MC={cfg['n_mc_samples']} "
+          f"s0=s={cfg['n_initial']} N={cfg['n_iterations']} MC={cfg['n_samples']} "
           f"frames={cfg['frame_size'] or 'model default'} lr={cfg['lr']}")
     print(f"{'stage':<28}{'wall s':>9}{'cpu s':>9}{'peak RSS MiB':>14}  result")
     print(f"{'prepare 455 presses (+1 epoch)':<28}{prep:>9.1f}{'':>9}{rss_prep:>14.0f}")
@@ -138,8 +138,13 @@ def paired(args):
     print(f"\nsilicone5, {cfg['model']}, {len(pairs)} paired (test object, seed) runs, "
           f"{len(common)} converged in all strategies; e0={cfg['initial_epochs']} e={cfg['epochs_per_query']} "
           f"M={cfg['max_reservoir']} frames={cfg['frame_size'] or 'default'} lr={cfg['lr']} "
-          f"MC={cfg['n_mc_samples']}{' [quick]' if args.quick else ''}; wall {wall:.0f} s, "
+<<<<<<< HEAD
+          f"MC={cfg['n_samples']}{' [quick]' if args.quick else ''}; wall {wall:.0f} s, "
           f"peak RSS {peak_rss_mb():.0f} MiB (parent)")
+=======
+          f"MC={cfg['n_samples']}{' [quick]' if args.quick else ''}; wall {wall:.0f} s, "
+          f"peak RSS {_peak_rss_mib():.0f} MiB (parent)")
+>>>>>>> names
 
     def ci(v):
         v = np.asarray(v, float)

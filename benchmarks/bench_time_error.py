@@ -61,7 +61,7 @@ CONFIGS = {
     "frames 12x16": ({"frame_size": (12, 16)}, 1, {}),
     "frames 36x48": ({"frame_size": (36, 48)}, 1, {}),
     "1 frame between": ({"n_between": 1}, 1, {}),
-    "20 MC passes": ({"n_mc_samples": 20}, 1, {}),
+    "20 MC passes": ({"n_samples": 20}, 1, {}),
     "e=25": ({"epochs_per_query": 25}, 1, {}),
     "e0=50, e=25": ({"initial_epochs": 50, "epochs_per_query": 25}, 1, {}),
     "early stopping 5": ({"early_stopping": 5}, 1, {}),

@@ -54,7 +54,7 @@ result = run_active_sampling(
     initial_epochs=20,
     epochs_per_query=5,
     lr=3e-3,
-    n_mc_samples=10,
+    n_samples=10,
     frame_size=(9, 12),
     # With 20 epochs most runs end above the paper's convergence threshold
     # (training loss 1): keep them all here instead of skipping them.

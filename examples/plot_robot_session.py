@@ -75,7 +75,7 @@ for c in range(len(data.target_names)):
 
 learner = ActiveLearner(
     ConvLSTMClassifier(dropout=0.2, lr=3e-3, random_state=0), "thompson", initial_epochs=30,
-    epochs_per_query=10, n_mc_samples=10, stop_threshold=0.7, stop_patience=2, max_presses=12,
+    epochs_per_query=10, n_samples=10, stop_threshold=0.7, stop_patience=2, max_presses=12,
     classes=np.arange(len(data.target_names)), random_state=0,
 )
 learner.fit(np.concatenate(X0), np.array(y0))

@@ -46,7 +46,7 @@ for test_object in range(len(names)):
     oracle = PressOracle(frames[pool], y[pool], random_state=test_object)
     clf = ConvLSTMClassifier(dropout=0.2, random_state=test_object)
     learner = ActiveLearner(
-        clf, "margin", initial_epochs=40, epochs_per_query=10, n_mc_samples=10,
+        clf, "margin", initial_epochs=40, epochs_per_query=10, n_samples=10,
         stop_threshold=0.7, stop_patience=2, max_presses=20, random_state=test_object,
     )
     learner.fit(*oracle.initial(3))
@@ -92,8 +92,8 @@ plt.show()
 # Over many paired runs
 # ---------------------
 # One session per object is an anecdote. The experiments replay the same kind
-# of rule on every finished run (:func:`~sklearn_hardness.experiments.decision_stop`,
-# on the votes of the test presses) and report, per strategy, the presses used
-# and the accuracy at the stop with 95% paired intervals
+# of rule on every finished run (on the votes of the test presses: the decision
+# is settled when 80% of them agree for 2 iterations) and report, per strategy,
+# the presses used and the accuracy at the stop with 95% paired intervals
 # (``presses_at_stop`` and ``accuracy_at_stop`` in
 # :func:`~sklearn_hardness.experiments.paired_table`).

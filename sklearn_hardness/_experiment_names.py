@@ -20,7 +20,7 @@ QUICK_OVERRIDES = {
     "initial_epochs": 40,
     "epochs_per_query": 10,
     "lr": 3e-3,
-    "n_mc_samples": 10,
+    "n_samples": 10,
     "n_runs": 1,
 }
 
@@ -40,7 +40,7 @@ KEY_HELP = {
     "initial_epochs": "e0: epochs of the initial training",
     "epochs_per_query": "e: epochs per iteration (an upper bound with early_stopping)",
     "max_reservoir": "M: at most M reservoir presses trained on per iteration (None: all)",
-    "n_mc_samples": "n: MC-dropout passes per query",
+    "n_samples": "n: MC-dropout passes per query",
     "n_ensemble": "0: MC dropout (the paper); k >= 2: an ensemble of k differently seeded nets",
     "dropout": "dropout rate (the paper: 0.2)",
     "class_weight": "class weights of the classifier: None, the paper's unweighted loss (default), or "
@@ -51,7 +51,7 @@ KEY_HELP = {
                       "epochs (None: every epoch)",
     "convergence_threshold": "runs whose initial training loss exceeds it are skipped ('auto': for the "
                              "ConvLSTM 1.0 at 5 classes, the same fraction of chance loss ln K at K classes "
-                             "(models.chance_scaled_threshold); None otherwise)",
+                             "(models.is_converged with threshold='chance'); None otherwise)",
     "dropout_placement": "ConvLSTM only: 'head' (on the pooled features, default), 'layers' (after each "
                          "ConvLSTM layer, the paper's) or 'channels' (one mask per channel map)",
     "n_between": "frames kept between the first and the last contact frame",

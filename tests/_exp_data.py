@@ -15,7 +15,7 @@ TINY = dict(
     n_initial=2,
     n_per_query=2,
     n_test=2,
-    n_mc_samples=4,
+    n_samples=4,
     max_reservoir=8,
     frame_size=(16, 20),
 )

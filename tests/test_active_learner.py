@@ -60,7 +60,7 @@ def test_algorithm_1_loop(data):
     oracle = _pool(data, seed=2)
     learner = ActiveLearner(
         make_net(), "variance", initial_epochs=6, epochs_per_query=3,
-        max_reservoir=12, n_mc_samples=10, random_state=0,
+        max_reservoir=12, n_samples=10, random_state=0,
     ).fit(X0, y0)
     assert learner.initial_train_loss_ is not None and np.isfinite(learner.initial_train_loss_)
     np.testing.assert_array_equal(learner.classes_, [0, 1, 2])
@@ -108,7 +108,7 @@ def test_warm_start_and_training_subset_size(data):
     X0, y0, X_test, _, oracle = data
     learner = ActiveLearner(
         make_net(batch_size=4), "entropy", initial_epochs=4, epochs_per_query=2,
-        max_reservoir=10, n_mc_samples=5, random_state=1,
+        max_reservoir=10, n_samples=5, random_state=1,
     ).fit(X0, y0)
     net = learner.estimator_
     assert len(net.history) == 4
@@ -150,7 +150,7 @@ def test_random_state_makes_runs_reproducible(data):
 
     def run():
         learner = ActiveLearner(make_net(), "bald", initial_epochs=3, epochs_per_query=2,
-                                max_reservoir=10, n_mc_samples=6, random_state=42).fit(X0, y0)
+                                max_reservoir=10, n_samples=6, random_state=42).fit(X0, y0)
         out = []
         for _ in range(2):
             idx, scores = learner.query(X_test)
@@ -169,7 +169,7 @@ def test_random_state_makes_runs_reproducible(data):
 
 def test_query_runs_mc_passes_once_and_strategy_reuses_them(data):
     X0, y0, X_test, _, _ = data
-    learner = ActiveLearner(make_net(), entropy_sampling, initial_epochs=2, n_mc_samples=7,
+    learner = ActiveLearner(make_net(), entropy_sampling, initial_epochs=2, n_samples=7,
                             random_state=0).fit(X0, y0)
     before = MCDropoutNet.n_mc_calls
     idx, scores = learner.query(X_test, n_instances=2)
@@ -181,7 +181,7 @@ def test_query_runs_mc_passes_once_and_strategy_reuses_them(data):
 def test_string_and_custom_strategies(data):
     X0, y0, X_test, _, _ = data
     for name in ["entropy", "variance", "bald", "margin", "mc_variance", "thompson", "random"]:
-        learner = ActiveLearner(make_net(), name, initial_epochs=1, n_mc_samples=3,
+        learner = ActiveLearner(make_net(), name, initial_epochs=1, n_samples=3,
                                 random_state=0).fit(X0, y0)
         idx, scores = learner.query(X_test)
         assert 0 <= idx[0] < 3
@@ -192,7 +192,7 @@ def test_string_and_custom_strategies(data):
         seen.append(proba_samples.shape)
         return np.arange(proba_samples.shape[-1])[-n_instances:]
 
-    learner = ActiveLearner(make_net(), always_last, initial_epochs=1, n_mc_samples=3).fit(X0, y0)
+    learner = ActiveLearner(make_net(), always_last, initial_epochs=1, n_samples=3).fit(X0, y0)
     idx, scores = learner.query(X_test)
     assert idx.tolist() == [2] and scores is None
     assert seen == [(3, len(X_test), 3)]  # the MC passes on the test presses
@@ -213,7 +213,7 @@ def test_pipeline_fits_features_once_and_caches_them(data):
     CountingScaler.n_fit = CountingScaler.n_rows_transformed = 0
     pipe = Pipeline([("scale", CountingScaler()), ("net", make_net())])
     learner = ActiveLearner(pipe, "variance", initial_epochs=3, epochs_per_query=2,
-                            max_reservoir=100, n_mc_samples=4, random_state=0).fit(X0s, y0)
+                            max_reservoir=100, n_samples=4, random_state=0).fit(X0s, y0)
     assert CountingScaler.n_fit == 1
     scaler = learner.estimator_.named_steps["scale"]
     mean0 = scaler.mean_.copy()
@@ -243,7 +243,7 @@ def test_feature_cache_can_be_disabled(data):
     X0, y0, X_test, y_test, _ = data
     CountingScaler.n_rows_transformed = 0
     learner = ActiveLearner(make_pipeline(CountingScaler(), make_net()), initial_epochs=1,
-                            n_mc_samples=2, cache_test_features=False).fit(X0, y0)
+                            n_samples=2, cache_test_features=False).fit(X0, y0)
     n0 = CountingScaler.n_rows_transformed
     learner.score(X_test, y_test)
     learner.score(X_test, y_test)
@@ -257,7 +257,7 @@ def test_sequence_input_through_pipeline(data):
     X0, y0, X_test, y_test, _ = data
     stack = FunctionTransformer(lambda X: np.stack(list(X)).astype(np.float32))
     learner = ActiveLearner(make_pipeline(stack, make_net()), initial_epochs=2,
-                            epochs_per_query=1, max_reservoir=10, n_mc_samples=3,
+                            epochs_per_query=1, max_reservoir=10, n_samples=3,
                             random_state=0)
     learner.fit(list(X0), y0)
     idx, _ = learner.query(list(X_test))
@@ -333,7 +333,7 @@ class ForestMC(BaseEstimator):
 def test_non_skorch_estimator_is_refit_and_string_labels(data):
     X0, y0, X_test, y_test, _ = data
     names = np.array(["hard", "medium", "soft"])
-    learner = ActiveLearner(ForestMC(), "entropy", max_reservoir=12, n_mc_samples=8,
+    learner = ActiveLearner(ForestMC(), "entropy", max_reservoir=12, n_samples=8,
                             random_state=0).fit(X0, names[y0])
     np.testing.assert_array_equal(learner.classes_, ["hard", "medium", "soft"])
     assert learner.initial_train_loss_ is None
@@ -411,7 +411,7 @@ def test_teach_before_fit_and_bad_teach(data):
 
 @pytest.mark.parametrize(
     "param, value",
-    [("initial_epochs", 0), ("epochs_per_query", -1), ("n_mc_samples", 0),
+    [("initial_epochs", 0), ("epochs_per_query", -1), ("n_samples", 0),
      ("max_reservoir", 0), ("initial_epochs", 2.5), ("cache_test_features", "yes"),
      ("random_state", "seed"), ("classes", 3), ("estimator", "net"), ("query_strategy", 3)],
 )
@@ -424,7 +424,7 @@ def test_bad_params(param, value, data):
 
 def test_bad_query_and_sampling_arguments(data):
     X0, y0, X_test, _, _ = data
-    learner = ActiveLearner(make_net(), initial_epochs=1, n_mc_samples=3).fit(X0, y0)
+    learner = ActiveLearner(make_net(), initial_epochs=1, n_samples=3).fit(X0, y0)
     with pytest.raises(InvalidParameterError, match="'n_instances' parameter"):
         learner.query(X_test, n_instances=0)
     with pytest.raises(ValueError, match="n_instances=4 is larger than the number of classes"):
@@ -466,12 +466,12 @@ def test_estimator_classes_must_match(data):
 
 def test_strategy_on_the_learners_own_samples(data):
     X0, y0, X_test, _, _ = data
-    learner = ActiveLearner(make_net(), initial_epochs=2, n_mc_samples=5).fit(X0, y0)
+    learner = ActiveLearner(make_net(), initial_epochs=2, n_samples=5).fit(X0, y0)
     p = learner.predict_proba_samples(X_test, n_samples=6, random_state=2)
     assert p.shape == (6, len(X_test), 3)
     idx, scores = variance_sampling(p)
     np.testing.assert_allclose(scores, class_uncertainty(p, "variance"))
-    assert learner.predict_proba_samples(X_test).shape[0] == 5  # default n_mc_samples
+    assert learner.predict_proba_samples(X_test).shape[0] == 5  # default n_samples
 
 
 def test_pickle_round_trip_drops_feature_cache(data):
@@ -479,7 +479,7 @@ def test_pickle_round_trip_drops_feature_cache(data):
 
     X0, y0, X_test, y_test, _ = data
     learner = ActiveLearner(make_pipeline(StandardScaler(), make_net()), initial_epochs=2,
-                            n_mc_samples=3, random_state=0).fit(X0, y0)
+                            n_samples=3, random_state=0).fit(X0, y0)
     p = learner.predict_proba(X_test)
     assert learner._feature_cache is not None
     restored = pickle.loads(pickle.dumps(learner))
@@ -523,7 +523,7 @@ def test_query_scores_the_presses_it_was_given(strategy, in_pipeline):
     model = LogitRowsMC()
     double = FunctionTransformer(lambda X: 2 * np.asarray(X))  # the feature step matters
     est = make_pipeline(double, model) if in_pipeline else model
-    learner = ActiveLearner(est, strategy, n_mc_samples=7, random_state=0).fit(X0, y0)
+    learner = ActiveLearner(est, strategy, n_samples=7, random_state=0).fit(X0, y0)
     idx, scores = learner.query(X_test)
     features = double.transform(X_test) if in_pipeline else X_test
     p = model.fit(X0, y0).predict_proba_samples(features, n_samples=7)
@@ -550,7 +550,7 @@ def test_thompson_query_draws_from_the_test_presses_belief():
     y0 = np.repeat([0, 1, 2], 2)
     X_test = np.array([[2.0, 0.0, 1.5], [0.5, 0.0, 2.5], [3.0, 0.2, 0.0]])
     model = LogitRowsMC()
-    learner = ActiveLearner(model, "thompson", n_mc_samples=7, random_state=0).fit(X0, y0)
+    learner = ActiveLearner(model, "thompson", n_samples=7, random_state=0).fit(X0, y0)
     firsts = np.array([learner.query(X_test)[0][0] for _ in range(1500)])
     freq = np.bincount(firsts, minlength=3) / len(firsts)
     model.fit(X0, y0)
@@ -567,7 +567,7 @@ def test_history_epochs_are_the_epochs_run_also_in_the_initial_training():
 
     X, y = make_blobs(n_per_class=10, seed=0)
     net = OFNNClassifier(random_state=0, callbacks=[EarlyStopping(monitor="train_loss", patience=1)])
-    learner = ActiveLearner(net, "random", initial_epochs=300, epochs_per_query=300, n_mc_samples=3,
+    learner = ActiveLearner(net, "random", initial_epochs=300, epochs_per_query=300, n_samples=3,
                             random_state=0).fit(X, y)
     first = learner.history_[0]["epochs"]
     assert first == len(learner._final().history) < 300  # stopped early, and said so
@@ -703,7 +703,7 @@ def test_refit_estimator_keeps_every_class_under_a_small_cap():
         X_test = rng.normal(size=(3, 2))
         for seed in range(6):
             learner = ActiveLearner(LaplaceLogisticRegression(), "variance", max_reservoir=4,
-                                    n_mc_samples=5, random_state=seed).fit(X0, y0)
+                                    n_samples=5, random_state=seed).fit(X0, y0)
             learner.teach(rng.normal(size=(2, 2)), [1, 1])
             idx, scores = learner.query(X_test)
             np.testing.assert_array_equal(learner._final().classes_, [0, 1, 2, 3])

@@ -64,7 +64,7 @@ def test_algorithm_1_with_ofnn(pool):
     learner = ActiveLearner(
         make_pipeline(StandardScaler(), OFNNClassifier(random_state=0)),
         "variance", initial_epochs=30, epochs_per_query=15, max_reservoir=20,
-        n_mc_samples=20, random_state=0,
+        n_samples=20, random_state=0,
     ).fit(X0, y0)
     np.testing.assert_array_equal(learner.classes_, ["hard", "medium", "soft"])
     net = learner.estimator_[-1]
@@ -93,7 +93,7 @@ def test_convlstm_reservoir_of_frames():
     X0, y0 = oracle.initial(2)
     learner = ActiveLearner(
         ConvLSTMClassifier(filters=(2, 2), random_state=0), "entropy",
-        initial_epochs=2, epochs_per_query=1, max_reservoir=8, n_mc_samples=4,
+        initial_epochs=2, epochs_per_query=1, max_reservoir=8, n_samples=4,
         random_state=0,
     ).fit(X0, y0)
     idx, scores = learner.query(X_test)

@@ -169,7 +169,7 @@ def test_learner_properties(counts, batch, cap, strategy, string_labels, seed):
     names = np.array([f"obj{c}" for c in range(len(counts))]) if string_labels else np.arange(len(counts))
     y0 = np.repeat(names, counts)
     X0 = rng.normal(size=(len(y0), 3)) + np.repeat(np.arange(len(counts)), counts)[:, None]
-    learner = ActiveLearner(CentroidMC(), strategy, max_reservoir=cap, n_mc_samples=4,
+    learner = ActiveLearner(CentroidMC(), strategy, max_reservoir=cap, n_samples=4,
                             classes=names, random_state=seed)
     missing = [c for c, n in zip(names.tolist(), counts) if n == 0]
     if not len(y0):

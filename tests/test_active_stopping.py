@@ -29,7 +29,7 @@ def _pool(separation, seed=0):
 
 def test_stops_early_on_an_easy_case_and_is_right():
     oracle, X_test = _pool(separation=6.0)
-    learner = ActiveLearner(CentroidMC(), "variance", n_mc_samples=20, stop_threshold=0.9,
+    learner = ActiveLearner(CentroidMC(), "variance", n_samples=20, stop_threshold=0.9,
                             stop_patience=2, max_presses=30, random_state=0)
     _run(learner.fit(*oracle.initial(3)), oracle, X_test)
     assert learner.stop_reason_ == "settled"
@@ -42,7 +42,7 @@ def test_stops_early_on_an_easy_case_and_is_right():
 
 def test_hard_case_runs_to_the_budget_and_never_beyond():
     oracle, X_test = _pool(separation=0.3)  # the objects overlap: never sure
-    learner = ActiveLearner(CentroidMC(), "entropy", n_mc_samples=20, stop_threshold=0.9,
+    learner = ActiveLearner(CentroidMC(), "entropy", n_samples=20, stop_threshold=0.9,
                             max_presses=9, random_state=0)
     _run(learner.fit(*oracle.initial(3)), oracle, X_test)
     assert learner.stop_reason_ == "budget"
@@ -67,7 +67,7 @@ def test_budget_counts_presses_not_teaches():
 
 def test_patience_waits_for_an_unchanged_decision():
     oracle, X_test = _pool(separation=6.0)
-    learner = ActiveLearner(CentroidMC(), n_mc_samples=20, stop_threshold=0.9, stop_patience=3,
+    learner = ActiveLearner(CentroidMC(), n_samples=20, stop_threshold=0.9, stop_patience=3,
                             random_state=0).fit(*oracle.initial(3))
     X_other, _ = oracle.press(2, 5)  # presses that the model decides as object 2
     learner.query(X_test)
@@ -89,7 +89,7 @@ def test_default_off_and_the_rule_changes_no_query():
         oracle = PressOracle(X, y, random_state=0)
         X_test, _ = oracle.press(1, 4)
         learner = ActiveLearner(make_net(), "variance", initial_epochs=3, epochs_per_query=2,
-                                max_reservoir=12, n_mc_samples=6, random_state=0, **stop)
+                                max_reservoir=12, n_samples=6, random_state=0, **stop)
         learner.fit(*oracle.initial(3))
         return _run(learner, oracle, X_test, max_iterations=4)
 

@@ -104,7 +104,7 @@ ESTIMATORS = {
     "ConvLSTMClassifier": (lambda: ConvLSTMClassifier(filters=(2,), max_epochs=2, random_state=0), "frames"),
     "EnsembleClassifier": (lambda: EnsembleClassifier(_ofnn(), n_estimators=2, random_state=0), "table"),
     "ActiveLearner": (
-        lambda: ActiveLearner(_ofnn(), initial_epochs=5, epochs_per_query=2, n_mc_samples=4, random_state=0),
+        lambda: ActiveLearner(_ofnn(), initial_epochs=5, epochs_per_query=2, n_samples=4, random_state=0),
         "table",
     ),
 }

@@ -51,6 +51,19 @@ def test_bad_config():
         get_config("silicone5", epochs=3)
 
 
+def test_renamed_config_key_is_a_clear_error_and_keeps_the_hash():
+    # n_mc_samples became n_samples (the name of predict_proba_samples and ActiveLearner)
+    with pytest.raises(ValueError, match="'n_mc_samples' is now 'n_samples'"):
+        get_config("silicone5", n_mc_samples=10)
+    cfg = get_config("silicone5", n_samples=10)
+    assert cfg["n_samples"] == 10 and "n_mc_samples" not in cfg
+    written_before = {("n_mc_samples" if k == "n_samples" else k): v for k, v in cfg.items()}
+    assert config_hash(cfg) == config_hash(written_before)  # results files stay resumable
+    # the hash a results file written before the rename holds for the default silicone5 config
+    assert config_hash(get_config("silicone5")) == "805d7dc6513b"
+    assert config_hash(cfg) != config_hash(get_config("silicone5"))
+
+
 # ----------------------------------------------------------------- store
 def test_results_store_roundtrip_torn_line_and_duplicates(tmp_path):
     path = tmp_path / "r.jsonl"
@@ -220,7 +233,7 @@ def test_active_sampling_bad_input():
 def test_convlstm_convergence_rule():
     data = tiny_presses()
     kw = dict(model="convlstm", strategies=("variance", "random"), test_classes=[1], n_runs=1,
-              verbose=0, **dict(TINY, initial_epochs=2, epochs_per_query=1, n_mc_samples=3,
+              verbose=0, **dict(TINY, initial_epochs=2, epochs_per_query=1, n_samples=3,
                                 frame_size=(8, 10)))
     never = run_active_sampling(data, convergence_threshold=0.0, **kw)
     assert all(not r["converged"] for r in never.records)

@@ -32,7 +32,7 @@ def test_reproduce_on_a_manifest(manifest, tmp_path, capsys):
     out = tmp_path / "out"
     args = ["reproduce", "--dataset", str(manifest), "--model", "ofnn", "--out", str(out), "--n-runs", "1",
             "--strategies", "variance", "random", "--epochs", "4", "2", "--quiet", "--set", "n_iterations=2",
-            "n_per_query=2", "n_initial=2", "n_test=2", "max_reservoir=8", "n_mc_samples=4",
+            "n_per_query=2", "n_initial=2", "n_test=2", "max_reservoir=8", "n_samples=4",
             "frame_size=(16,20)"]
     assert main(args) == 0
     text = capsys.readouterr().out
@@ -67,7 +67,7 @@ def test_reproduce_on_a_manifest_of_many_objects_is_object_disjoint(tmp_path, ca
     out = tmp_path / "out"
     args = ["reproduce", "--dataset", str(folder / "manifest.csv"), "--model", "ofnn", "--out", str(out),
             "--n-runs", "1", "--strategies", "variance", "random", "--epochs", "4", "2", "--quiet", "--set",
-            "n_iterations=2", "n_per_query=2", "n_initial=2", "n_test=2", "max_reservoir=8", "n_mc_samples=4",
+            "n_iterations=2", "n_per_query=2", "n_initial=2", "n_test=2", "max_reservoir=8", "n_samples=4",
             "frame_size=(16,20)"]
     assert main(args) == 0
     header = capsys.readouterr().out.splitlines()[0]
@@ -92,6 +92,9 @@ def test_reproduce_help_and_bad_input(capsys, tmp_path):
     with pytest.raises(SystemExit, match="2"):
         main(["reproduce", "--set", "n_iteration=2", "--out", str(tmp_path)])
     assert "unknown configuration key" in capsys.readouterr().err
+    with pytest.raises(SystemExit, match="2"):
+        main(["reproduce", "--set", "n_mc_samples=4", "--out", str(tmp_path)])
+    assert "'n_mc_samples' is now 'n_samples'" in capsys.readouterr().err
     with pytest.raises(SystemExit, match="2"):
         main(["reproduce", "--strategies", "uncertainty", "--out", str(tmp_path), "--dataset", "x.csv"])
     assert "strategy" in capsys.readouterr().err

@@ -18,7 +18,7 @@ from sklearn_hardness.experiments._data import prepare_inputs
 from ._presets import EVERYDAY_BEFORE
 
 SMALL = dict(n_initial=1, n_per_query=1, n_iterations=2, n_test=1, initial_epochs=20, epochs_per_query=5,
-             n_mc_samples=5)
+             n_samples=5)
 
 
 @pytest.fixture(scope="module")

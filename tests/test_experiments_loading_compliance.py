@@ -20,7 +20,7 @@ from sklearn_hardness.experiments._data import prepare_inputs
 from sklearn_hardness.experiments._run import _input_scaler, _rows
 from sklearn_hardness.features import LoadingCompliance
 
-SMALL = dict(n_initial=1, n_per_query=1, n_iterations=2, n_test=1, n_mc_samples=5)
+SMALL = dict(n_initial=1, n_per_query=1, n_iterations=2, n_test=1, n_samples=5)
 
 
 @pytest.fixture(scope="module")

@@ -37,7 +37,7 @@ def _same(a, b):
 
 
 @pytest.mark.parametrize("model, extra", [("ofnn", {}), pytest.param(
-    "convlstm", dict(frame_size=(8, 10), n_mc_samples=3), marks=pytest.mark.slow)])
+    "convlstm", dict(frame_size=(8, 10), n_samples=3), marks=pytest.mark.slow)])
 def test_shared_initial_model_gives_the_same_records(model, extra):
     strategies = ("variance", "entropy", "random", "bald")
     shared = run_active_sampling(tiny_presses(), model=model, strategies=strategies, test_classes=[1],
@@ -108,7 +108,7 @@ def test_input_scale_is_fitted_on_training_presses_only(monkeypatch):
         return orig(X_train, cfg, model)
 
     monkeypatch.setattr(active, "_input_scaler", recording)
-    kw = dict(TINY, frame_size=(8, 10), n_mc_samples=3, initial_epochs=2, epochs_per_query=1,
+    kw = dict(TINY, frame_size=(8, 10), n_samples=3, initial_epochs=2, epochs_per_query=1,
               convergence_threshold=None)
     res = run_active_sampling(tiny_presses(), model="convlstm", strategies=("random",), test_classes=[0],
                               seeds=[0], n_jobs=1, verbose=0, **kw)

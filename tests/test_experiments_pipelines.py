@@ -28,7 +28,7 @@ def test_pipelines_from_raw_videos_with_active_learner():
     for pipe in (make_convlstm_pipeline(frame_size=(8, 10), max_epochs=2, random_state=0),
                  make_ofnn_pipeline(frame_size=(16, 20), max_epochs=3, random_state=0)):
         learner = ActiveLearner(clone(pipe), "variance", initial_epochs=2, epochs_per_query=1,
-                                n_mc_samples=3, random_state=0)
+                                n_samples=3, random_state=0)
         learner.fit(data.videos[idx], y[idx])
         q, scores = learner.query(data.videos[test])
         assert scores.shape == (5,) and 0 <= q[0] < 5

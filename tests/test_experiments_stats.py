@@ -75,10 +75,10 @@ def test_reproduce_protocol_paper_passes_its_arguments(tmp_path, capsys, monkeyp
     seen = {}
     monkeypatch.setattr(_protocol, "run_paper_protocol", lambda out, **kw: seen.update(kw, out=out) or "SUMMARY")
     assert main(["reproduce", "--protocol", "paper", "--out", str(tmp_path), "--n-runs", "3", "--quiet",
-                 "--strategies", "variance", "random", "--set", "n_mc_samples=7"]) == 0
+                 "--strategies", "variance", "random", "--set", "n_samples=7"]) == 0
     assert "SUMMARY" in capsys.readouterr().out
     assert seen["out"] == str(tmp_path) and seen["n_runs"] == 3 and seen["verbose"] == 0
-    assert seen["strategies"] == ["variance", "random"] and seen["n_mc_samples"] == 7
+    assert seen["strategies"] == ["variance", "random"] and seen["n_samples"] == 7
     with pytest.raises(SystemExit, match="2"):
         main(["reproduce", "--protocol", "paper", "--out", str(tmp_path), "--model", "ofnn"])
     assert "no --dataset or --model" in capsys.readouterr().err
@@ -100,12 +100,12 @@ def test_protocol_entry_configuration_reaches_its_experiments(tmp_path, monkeypa
         raise Stop
 
     monkeypatch.setattr(_protocol, "run_model_baselines", baselines)
-    entry = (("shore9", "convlstm", 5, ("ofnn",), {"lr": 3e-3, "n_mc_samples": 7}),)
+    entry = (("shore9", "convlstm", 5, ("ofnn",), {"lr": 3e-3, "n_samples": 7}),)
     with pytest.raises(Stop):
         _protocol.run_paper_protocol(tmp_path, protocol=entry, verbose=0)
     with pytest.raises(Stop):
         _protocol.run_paper_protocol(tmp_path, protocol=entry, verbose=0, lr=1e-2)  # the caller's keys win
-    assert [(kw["lr"], kw["n_mc_samples"]) for kw in seen] == [(3e-3, 7), (1e-2, 7)]
+    assert [(kw["lr"], kw["n_samples"]) for kw in seen] == [(3e-3, 7), (1e-2, 7)]
 
 
 @pytest.mark.slow
@@ -115,7 +115,7 @@ def test_paper_protocol_runs_everything_and_resumes(tmp_path, capsys):
     out = tmp_path / "paper"
     kw = dict(strategies=("variance", "random"), n_runs=2, quick=True, dropouts=(0.1, 0.3),
               protocol=(("silicone5", "ofnn", 10, ("ofnn",)),), image_size=(32, 40), frame_size=(16, 20),
-              initial_epochs=2, epochs_per_query=1, n_iterations=1, n_mc_samples=2)
+              initial_epochs=2, epochs_per_query=1, n_iterations=1, n_samples=2)
     text = run_paper_protocol(out, **kw)
     err = capsys.readouterr().err
     for part in ("== silicone5: ofnn", "model baselines", "dropout sweep", "paired against random",

@@ -204,7 +204,7 @@ def test_active_sampling_runs_on_force_and_position_and_its_uncertainty_shrinks_
 
     X, y = presses(90, forces=(1.0, 6.0), seed=2, spread=0.3)
     X_test, _ = presses(12, forces=(1.0, 6.0), seed=3, spread=0.3)
-    learner = ActiveLearner(make_loading_compliance_pipeline(), n_mc_samples=200, random_state=0)
+    learner = ActiveLearner(make_loading_compliance_pipeline(), n_samples=200, random_state=0)
     learner.fit(X[:6], y[:6])
 
     def spread():

@@ -33,7 +33,7 @@ def test_record_from_a_file_source(camera, tmp_path):
 def test_record_duration_and_size(camera):
     source, _ = camera
     assert record_video(source, duration=0.4, fps=25).shape[0] == 10
-    assert record_video(source, n_frames=3, size=(24, 32)).shape == (3, 24, 32, 3)
+    assert record_video(source, n_frames=3, image_size=(24, 32)).shape == (3, 24, 32, 3)
 
 
 def test_record_warns_when_the_source_ends_early(camera):
@@ -63,8 +63,8 @@ def test_record_clear_errors(camera, tmp_path):
         record_video(source, n_frames=0)
     with pytest.raises(InvalidParameterError, match="'source'"):
         record_video(1.5, n_frames=3)
-    with pytest.raises(ValueError, match="size"):
-        record_video(source, n_frames=3, size=(10,))
+    with pytest.raises(ValueError, match="image_size"):
+        record_video(source, n_frames=3, image_size=(10,))
 
 
 def test_cli_record_appends_to_a_manifest_that_loads(camera, tmp_path, capsys):

@@ -138,7 +138,7 @@ def test_active_learner_runs_on_the_pipeline_from_videos(head, n_per_object, lea
     oracle = PressOracle(X, y, random_state=0)
     X_test, y_test = oracle.press(2, 4)
     pipe = make_contact_profile_pipeline(head=head, random_state=0)
-    learner = ActiveLearner(pipe, "entropy", n_mc_samples=8, random_state=0, **learner_params)
+    learner = ActiveLearner(pipe, "entropy", n_samples=8, random_state=0, **learner_params)
     learner.fit(*oracle.initial(3))
     for _ in range(2):
         idx, scores = learner.query(X_test)

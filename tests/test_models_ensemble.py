@@ -61,7 +61,7 @@ def test_active_learner_warm_starts_every_member():
     oracle = PressOracle(X, y, random_state=0)
     X_test, _ = oracle.press(1, 4)
     learner = ActiveLearner(EnsembleClassifier(_ofnn(), n_estimators=3, random_state=0), "variance",
-                            initial_epochs=6, epochs_per_query=4, n_mc_samples=6, random_state=0)
+                            initial_epochs=6, epochs_per_query=4, n_samples=6, random_state=0)
     learner.fit(*oracle.initial(5))
     before = [len(m.history_) for m in learner.estimator_.estimators_]
     idx, _ = learner.query(X_test)

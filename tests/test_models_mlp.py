@@ -1,4 +1,7 @@
-"""OFNNClassifier / DINOv2NNClassifier: input checks and learning."""
+"""OFNNClassifier / DINOv2NNClassifier / ContactProfileNNClassifier: input checks, learning, docs."""
+
+import inspect
+import re
 
 import numpy as np
 import pytest
@@ -6,7 +9,7 @@ import torch
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
-from sklearn_hardness.models import DINOv2NNClassifier, OFNNClassifier
+from sklearn_hardness.models import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
 from sklearn_hardness.models._mlp import MLPHead
 
 
@@ -106,3 +109,31 @@ def test_unfitted_net_raises():
         OFNNClassifier().predict_proba_samples(np.zeros((2, 3), np.float32))
     with pytest.raises(AttributeError, match="not been trained"):
         OFNNClassifier().final_train_loss_
+
+
+MLP_CLASSES = [OFNNClassifier, DINOv2NNClassifier, ContactProfileNNClassifier]
+
+
+def _documented_parameters(cls):
+    doc = inspect.getdoc(cls)
+    section = doc[doc.index("Parameters\n----------"):doc.index("Attributes\n----------")]
+    return dict(re.findall(r"^(\**\w+)(?: : (.*))?$", section, flags=re.M)[1:])  # [0]: the heading
+
+
+@pytest.mark.parametrize("cls", MLP_CLASSES, ids=lambda c: c.__name__)
+def test_mlp_docstring_lists_the_signature_with_its_defaults(cls):
+    documented = _documented_parameters(cls)
+    signature = inspect.signature(cls).parameters
+    assert list(documented) == [("**" + n) if p.kind is p.VAR_KEYWORD else n for n, p in signature.items()]
+    for name in ("hidden_units", "dropout", "lr", "max_epochs", "batch_size"):
+        assert documented[name].endswith(f"default={signature[name].default}"), (name, documented[name])
+
+
+def test_mlp_docstrings_share_one_text():
+    # one implementation, one docstring source: the parameter lists agree word for word except
+    # for defaults; only the paper's two classes cite the paper's 128 hidden units
+    docs = {cls: inspect.getdoc(cls) for cls in MLP_CLASSES}
+    assert len({tuple(_documented_parameters(cls)) for cls in MLP_CLASSES}) == 1
+    assert ContactProfileNNClassifier().hidden_units == 64 and "default=64" in docs[ContactProfileNNClassifier]
+    assert [("(128 in the paper)" in doc) for doc in docs.values()] == [True, True, False]
+    assert all(">>> clf.predict_proba" in doc for doc in docs.values())

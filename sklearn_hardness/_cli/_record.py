@@ -25,7 +25,7 @@ def _add_record(sub):
                    help="frames to record (default 126, 5 s at 25 fps, like GelSight Mini recordings)")
     p.add_argument("--duration", type=_float_type(), default=None, help="seconds to record instead of --n-frames")
     p.add_argument("--fps", type=_float_type(), default=None, help="frame rate to ask of the camera")
-    p.add_argument("--size", type=_int_type(2, what="an integer >= 2"), nargs=2, default=None,
+    p.add_argument("--image-size", type=_int_type(2, what="an integer >= 2"), nargs=2, default=None,
                    metavar=("HEIGHT", "WIDTH"), help="frame size (resized if the camera gives another)")
     p.add_argument("--warmup", type=_nonnegative_int, default=0,
                    help="frames dropped first while exposure settles")
@@ -68,7 +68,7 @@ def _run_record(args):
     try:
         with _user_errors():
             frames = record_video(source, n_frames=n_frames, duration=args.duration, fps=args.fps,
-                                  size=tuple(args.size) if args.size else None, path=video_path,
+                                  image_size=tuple(args.image_size) if args.image_size else None, path=video_path,
                                   warmup=args.warmup)
     except BaseException:
         for folder in reversed(created):  # a missing camera leaves nothing behind

@@ -204,11 +204,11 @@ def _run_reproduce(args):
     if cfg["model"] in EXPERIMENT_MODELS and not pipeline_info(cfg["model"]).random:  # a logistic regression
         # refitted per iteration
         training = (f"M={cfg['max_reservoir']}, refitted per iteration, n_test={cfg['n_test']}, "
-                    f"Laplace posterior samples={cfg['n_mc_samples']}")
+                    f"Laplace posterior samples={cfg['n_samples']}")
     else:
         training = (
             f"e0={cfg['initial_epochs']}, e={cfg['epochs_per_query']}, M={cfg['max_reservoir']}, "
-            f"dropout={cfg['dropout']}, n_test={cfg['n_test']}, MC passes={cfg['n_mc_samples']}"
+            f"dropout={cfg['dropout']}, n_test={cfg['n_test']}, MC passes={cfg['n_samples']}"
             + (f", frames={cfg['frame_size'][0]}x{cfg['frame_size'][1]}" if cfg.get("frame_size") else "")
             + (f", early stopping={cfg['early_stopping']}" if cfg.get("early_stopping") else ", every epoch"))
     header = (
@@ -238,7 +238,7 @@ def _run_reproduce(args):
         ) + "\n\n" + format_paired_table(paired_table(result)) + (
             "\nConverged runs; differences and p-values over the pairs where both runs converged. "
             "presses_at_stop / accuracy_at_stop: reference presses used and test accuracy when the "
-            "vote of the test presses is settled (experiments.decision_stop: 80% agree, 2 iterations); "
+            "vote of the test presses is settled (80% of them agree for 2 iterations); "
             "accuracy: on the test object's presses after the budget; holdout_accuracy: on held-out "
             "presses of other objects."
         )

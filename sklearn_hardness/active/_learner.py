@@ -65,7 +65,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
 
     Implements Algorithm 1 of the paper with a modAL-like interface:
     :meth:`fit` trains on the initial presses (``s0`` per reference object)
-    for ``initial_epochs`` epochs; :meth:`query` runs ``n_mc_samples``
+    for ``initial_epochs`` epochs; :meth:`query` runs ``n_samples``
     MC-dropout passes on presses of the test object and returns the
     reference object(s) to press next; :meth:`teach` adds the new presses to
     the reservoir and continues training (warm start) for
@@ -95,7 +95,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         The strategy, by name or as a callable
         ``strategy(proba_samples, n_instances=1, *, random_state=None)``
         that receives the MC-dropout probabilities on the test presses,
-        shape ``(n_mc_samples, n_test, n_classes)``, and returns
+        shape ``(n_samples, n_test, n_classes)``, and returns
         ``(class_indices, scores)`` or ``class_indices`` (``random_state``
         is passed only if accepted). See :func:`variance_sampling` and the
         other strategies.
@@ -108,8 +108,10 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         holds more samples, a random subset of this size is used. ``None``
         always trains on the whole reservoir. Must be at least the number of
         presses passed to one :meth:`teach`.
-    n_mc_samples : int, default=50
-        MC-dropout passes per :meth:`query` (``n``).
+    n_samples : int, default=50
+        MC-dropout passes per :meth:`query` (``n``): the ``n_samples`` of
+        :meth:`predict_proba_samples`, under the same name everywhere
+        (the experiments' configuration, ``reproduce --set``).
     classes : array-like or None, default=None
         All class labels (reference objects). Every class must be in the
         initial training set. ``None`` takes them from the final
@@ -247,7 +249,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
     >>> X = rng.normal(size=(90, 2)) + 4.0 * np.eye(3)[y][:, :2]
     >>> oracle = PressOracle(X, y, random_state=0)
     >>> X_test, _ = oracle.press(1, 4)          # presses of the test object
-    >>> learner = ActiveLearner(BootstrapLDA(), "margin", n_mc_samples=10,
+    >>> learner = ActiveLearner(BootstrapLDA(), "margin", n_samples=10,
     ...                         stop_threshold=0.9, max_presses=15, random_state=0)
     >>> _ = learner.fit(*oracle.initial(3))
     >>> while True:
@@ -265,7 +267,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         "initial_epochs": [Interval(Integral, 1, None, closed="left")],
         "epochs_per_query": [Interval(Integral, 1, None, closed="left")],
         "max_reservoir": [Interval(Integral, 1, None, closed="left"), None],
-        "n_mc_samples": [Interval(Integral, 1, None, closed="left")],
+        "n_samples": [Interval(Integral, 1, None, closed="left")],
         "classes": ["array-like", None],
         "cache_test_features": ["boolean"],
         "random_state": ["random_state"],
@@ -282,7 +284,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         initial_epochs=100,
         epochs_per_query=50,
         max_reservoir=None,
-        n_mc_samples=50,
+        n_samples=50,
         classes=None,
         cache_test_features=True,
         random_state=None,
@@ -295,7 +297,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         self.initial_epochs = initial_epochs
         self.epochs_per_query = epochs_per_query
         self.max_reservoir = max_reservoir
-        self.n_mc_samples = n_mc_samples
+        self.n_samples = n_samples
         self.classes = classes
         self.cache_test_features = cache_test_features
         self.random_state = random_state
@@ -446,7 +448,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         X : array-like or sequence of videos
             Initial presses (``s0`` per reference object). For a Pipeline,
             raw input of its first step.
-        y : array-like of shape (n_samples,)
+        y : array-like of shape (n_presses,)
             Their labels. Every class must be present.
 
         Returns
@@ -522,7 +524,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         X : array-like or sequence of videos
             Inputs (raw input of the Pipeline's first step).
         n_samples : int or None, default=None
-            Number of passes; ``None`` uses ``n_mc_samples``.
+            Number of passes; ``None`` uses the ``n_samples`` parameter.
         random_state : int, RandomState instance or None, default=None
             Seed for the dropout masks.
 
@@ -531,7 +533,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
         proba_samples : ndarray of shape (n_samples, n_X, n_classes)
         """
         check_is_fitted(self, "estimator_")
-        n_samples = self.n_mc_samples if n_samples is None else n_samples
+        n_samples = self.n_samples if n_samples is None else n_samples
         proba = self._final().predict_proba_samples(
             self._transform(X, cache=True), n_samples=n_samples, random_state=random_state
         )
@@ -546,7 +548,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
     def query(self, X_test, n_instances=1):
         """Choose the reference object(s) to press next.
 
-        Runs ``n_mc_samples`` MC-dropout passes on the test presses once,
+        Runs ``n_samples`` MC-dropout passes on the test presses once,
         hands those probabilities to the query strategy, and records in
         ``history_`` the strategy's choice and the per-class entropy,
         variance, BALD and the two parts of the variance of the same passes.
@@ -577,7 +579,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
                 "the test object."
             )
         proba = self.predict_proba_samples(
-            X_test, n_samples=self.n_mc_samples, random_state=int_seed(self._rng)
+            X_test, n_samples=self.n_samples, random_state=int_seed(self._rng)
         )
         kwargs = {"random_state": int_seed(self._rng)}
         kwargs = {k: v for k, v in kwargs.items() if k in _accepts_kwargs(strategy, kwargs)}

@@ -173,7 +173,8 @@ def load_press_videos(manifest, *, cache_size=0):
     -------
     data : :class:`~sklearn.utils.Bunch`
         ``videos``
-            :class:`LazyVideoSequence` of ``(T, H, W, 3)`` ``uint8`` arrays.
+            Lazy sequence (``len``, integer and array indexing; videos are
+            read when indexed) of ``(T, H, W, 3)`` ``uint8`` arrays.
         ``target``
             ndarray of int, the class index of each video.
         ``target_names``

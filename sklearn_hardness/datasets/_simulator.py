@@ -47,7 +47,8 @@ from sklearn.utils import Bunch, check_random_state
 
 from ._sim_everyday import EVERYDAY_RANKS, check_codec, sample_objects, sample_press
 from ._sim_mechanics import simulate_press
-from ._sim_presets import PRESETS, modulus_to_compliance, resolve_params, shore00_to_modulus
+from ._sim_presets import (EVERYDAY_SPECS, PARAM_SPECS, PRESETS, modulus_to_compliance, resolve_params,
+                           shore00_to_modulus)
 from ._sim_videos import SimulatedPressVideos, _CodecSimulation, _EverydaySimulation, _Simulation
 
 __all__ = ["make_presses", "SimulatedPressVideos", "object_compliance"]
@@ -176,15 +177,16 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=None, image_si
     **physics
         Overrides of the preset's physical parameters, e.g.
         ``gel_compliance=0.4``, ``force_range=(2, 4)``, ``noise_std=0``,
-        ``hardness=[1.0, 0.5]`` (objects in the preset's unit). See
-        ``sklearn_hardness.datasets._sim_presets.PARAM_SPECS`` for all names,
-        meanings and allowed ranges.
+        ``hardness=[1.0, 0.5]`` (objects in the preset's unit). Every name,
+        its meaning and its allowed range:
+
+{physics}
 
     Returns
     -------
     data : :class:`~sklearn.utils.Bunch`
-        videos : :class:`SimulatedPressVideos` of length n_samples
-            Lazy sequence of ``(T_i, H, W, 3)`` ``uint8`` videos (``T_i``
+        videos : sequence of length n_samples
+            Lazy sequence (rendered when indexed) of ``(T_i, H, W, 3)`` ``uint8`` videos (``T_i``
             differs between presses).
         target : ndarray of shape (n_samples,), int
             Object (class) index. Classes are ordered by increasing
@@ -272,6 +274,23 @@ def make_presses(preset="silicone5", n_per_class=None, *, markers=None, image_si
     return _make_flat(preset, params, n_per_class, bool(markers), image_size, shuffle, return_mechanics,
                       codec, ss)
 
+
+
+def _physics_doc():
+    """The ``**physics`` keys of :func:`make_presses`, one entry each, from the presets' specifications."""
+
+    def entry(name, spec):
+        kind, low, high, meaning = spec
+        allowed = "bool" if kind == "bool" else f"{kind.replace('_', ' ')}, {low:g} to {high:g}"
+        return f"        ``{name}``\n            {meaning} ({allowed})."
+
+    everyday = [entry(name, spec) for name, spec in EVERYDAY_SPECS.items()]
+    return "\n".join([entry(name, spec) for name, spec in PARAM_SPECS.items()]
+                     + ["", "        ``everyday`` preset only:", ""] + everyday)
+
+
+if make_presses.__doc__:  # None under python -OO
+    make_presses.__doc__ = make_presses.__doc__.replace("{physics}", _physics_doc())
 
 def _make_flat(preset, params, n_per_class, markers, image_size, shuffle, return_mechanics, codec, ss):
     """``make_presses`` for the flat presets (one object per class): sensors, casts, presses, renderer."""

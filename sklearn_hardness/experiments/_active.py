@@ -152,7 +152,7 @@ def run_active_sampling(
     presses, the initial weights and the oracle's order (paired): the
     initial model is trained once per pair and copied into each strategy.
     The model's input scaling, its factory's ``"scale"`` step (the ConvLSTM's
-    :class:`~sklearn_hardness.models.FrameScaler` with ``input_scale="std"``,
+    per-channel frame scaler with ``input_scale="std"``,
     the contact profile's ``StandardScaler``), is fitted on the run's initial
     training presses.
 
@@ -182,7 +182,7 @@ def run_active_sampling(
     exceeds ``convergence_threshold`` is reported as not converged and not
     continued. ``"auto"``: the paper's 1.0 for the ConvLSTM at 5 classes
     (``silicone5``), the same fraction of chance loss at K classes
-    (:func:`~sklearn_hardness.models.chance_scaled_threshold`; 1.365 on
+    (:func:`~sklearn_hardness.models.is_converged` with ``threshold="chance"``; 1.365 on
     ``shore9``), no rule for the other models.
 
     Parameters
@@ -216,7 +216,8 @@ def run_active_sampling(
     seeds : sequence of int or None, default=None
         Explicit seeds (default ``range(n_runs)``).
     quick : bool, default=False
-        Use :data:`QUICK_OVERRIDES` (smaller, fewer, faster).
+        Smaller images and frames, fewer epochs, MC passes and runs (the
+        changes are listed by ``sklearn-hardness reproduce --help``).
     n_jobs : int or None, default=None
         Parallel runs through :class:`joblib.Parallel`; each worker uses one
         torch thread. ``joblib.parallel_config(backend="dask")`` sends them
@@ -235,7 +236,7 @@ def run_active_sampling(
     **config
         Overrides of the configuration: ``initial_epochs``,
         ``epochs_per_query``, ``max_reservoir``, ``n_initial``,
-        ``n_per_query``, ``n_iterations``, ``n_test``, ``n_holdout``, ``n_mc_samples``,
+        ``n_per_query``, ``n_iterations``, ``n_test``, ``n_holdout``, ``n_samples``,
         ``dropout``, ``dropout_placement`` (ConvLSTM), ``lr``, ``batch_size``, ``frame_size``, ``color``,
         ``n_between``, ``convergence_threshold``, ``image_size``,
         ``data_seed``, ``dinov2_model``.

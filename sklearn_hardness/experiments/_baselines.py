@@ -115,7 +115,8 @@ def run_model_baselines(
         None: the paper's protocol above. An int: object-disjoint
         cross-validation instead (folds grouped by ``object_id``), the
         models at their ready-made defaults beside the one-number baseline;
-        the result is then that of :func:`evaluate_pipelines` (balanced
+        the result is then that of
+        :func:`~sklearn_hardness.model_selection.evaluate_pipelines` (balanced
         accuracy, MAE, confusion matrices), and ``n_train_per_class``,
         ``n_test_per_class``, ``n_runs``, ``quick``, ``results_path``,
         ``memory`` and ``**config`` do not apply.
@@ -125,7 +126,8 @@ def run_model_baselines(
     result : ExperimentResult or Bunch
         One record per (model, seed): ``train_accuracy``, ``accuracy``,
         ``mae``, ``train_loss``, ``train_loss_curve``, ``converged``. With
-        ``cv``: the Bunch of :func:`evaluate_pipelines`.
+        ``cv``: the Bunch of
+        :func:`~sklearn_hardness.model_selection.evaluate_pipelines`.
     """
     if cv is not None:
         if isinstance(models, str):

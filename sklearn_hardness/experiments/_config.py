@@ -46,7 +46,7 @@ _COMMON = {
     # presses per reference object held out of every run's pool and scored after
     # each iteration (accuracy on every class, not only the test object's); 0: none
     "n_holdout": 0,
-    "n_mc_samples": 50,  # n, MC-dropout passes per query
+    "n_samples": 50,  # n, MC-dropout passes per query
     # 0: uncertainty from MC dropout (the paper). k >= 2: from an ensemble of k differently
     # seeded nets (models.EnsembleClassifier); the strategies see one "pass" per member
     "n_ensemble": 0,
@@ -96,7 +96,7 @@ PRESET_CONFIGS = {
         epochs_per_query=50,  # e
         max_reservoir=40,  # M
         # "auto": for the ConvLSTM the paper's loss <= 1 at 5 classes, ln(K) / ln(5) at K classes
-        # (models.chance_scaled_threshold; resolve_convergence_threshold); None for the others
+        # (models.is_converged(threshold="chance"); resolve_convergence_threshold); None for the others
         convergence_threshold="auto",
         n_runs=10,  # seeds per test class: 5 x 10 = 50 runs per strategy
     ),
@@ -114,6 +114,11 @@ PRESET_CONFIGS = {
 
 _KNOWN_KEYS = set(PRESET_CONFIGS["silicone5"])
 
+#: Configuration keys renamed before the first release, old name -> new name: an override by
+#: the old name is an error that names the new one; :func:`config_hash` hashes the old name,
+#: so results files written under it stay resumable.
+RENAMED_KEYS = {"n_mc_samples": "n_samples"}
+
 
 def get_config(preset="silicone5", *, quick=False, **overrides):
     """The experiment configuration of a preset, with overrides.
@@ -123,7 +128,8 @@ def get_config(preset="silicone5", *, quick=False, **overrides):
     preset : {"silicone5", "shore9"}, default="silicone5"
         Which of the paper's setups to start from.
     quick : bool, default=False
-        Apply :data:`QUICK_OVERRIDES` (a first look in minutes).
+        A first look in minutes: smaller images and frames, fewer epochs,
+        MC passes and runs (listed by ``sklearn-hardness reproduce --help``).
     **overrides
         Any key of the configuration:
 
@@ -147,6 +153,10 @@ def get_config(preset="silicone5", *, quick=False, **overrides):
     if quick:  # its frame size is the ConvLSTM's; models that select no frames keep None
         no_frames = _selects_no_frames(overrides.get("model"))
         cfg.update({k: v for k, v in QUICK_OVERRIDES.items() if not (k == "frame_size" and no_frames)})
+    renamed = sorted(set(overrides) & set(RENAMED_KEYS))
+    if renamed:
+        raise ValueError("renamed configuration key(s): " + ", ".join(
+            f"{old!r} is now {RENAMED_KEYS[old]!r}" for old in renamed) + "; use the new name.")
     unknown = sorted(set(overrides) - _KNOWN_KEYS)
     if unknown:
         raise ValueError(
@@ -192,7 +202,7 @@ def _ints_from(low):
 
 #: What each configuration key may hold (scikit-learn's constraint language).
 _CONFIG_CONSTRAINTS = {
-    **{name: _ints_from(1) for name in ("n_initial", "n_per_query", "n_test", "n_mc_samples",
+    **{name: _ints_from(1) for name in ("n_initial", "n_per_query", "n_test", "n_samples",
                                         "initial_epochs", "epochs_per_query", "n_runs")},
     **{name: _ints_from(0) for name in ("n_iterations", "n_holdout", "n_between", "n_ensemble")},
     "input_scale": [StrOptions({"std"}), None],
@@ -255,7 +265,7 @@ def resolve_convergence_threshold(cfg, n_classes):
 
     The paper's rule ("loss > 1 after initial training": not converged) is for
     the ConvLSTM on 5 classes; ``"auto"`` keeps its fraction of chance loss
-    ``ln K`` (:func:`~sklearn_hardness.models.chance_scaled_threshold`), so 1.0
+    ``ln K`` (:func:`~sklearn_hardness.models.is_converged` with ``threshold="chance"``), so 1.0
     at 5 classes (the hash of ``silicone5`` runs is the same as before) and
     1.365 at 9 (``shore9``: a new hash, its runs judged at 1.0 are not reread).
     Called by the experiments once the data give ``n_classes``, before the
@@ -298,9 +308,12 @@ def config_hash(config):
     """A short stable hash of a configuration (JSON with sorted keys, SHA-256).
 
     Runs are resumed only under the same hash, so changing any setting starts
-    new runs instead of mixing results.
+    new runs instead of mixing results. A renamed key (:data:`RENAMED_KEYS`)
+    is hashed under its former name: renaming changes no hash.
     """
     config = {k: v for k, v in config.items() if not (k in _LATER_KEYS and v == _LATER_KEYS[k])}
+    new_names = {new: old for old, new in RENAMED_KEYS.items()}
+    config = {new_names.get(k, k): v for k, v in config.items()}
     size = config.get("frame_size")
     if size is not None and tuple(size) == _SIZES_HASHED_AS_NONE[_input_name(config.get("model"))]:
         config["frame_size"] = None

@@ -7,7 +7,7 @@ downloaded on our machines, pass ``dinov2_model`` to add it to the
 baselines). On ``shore9`` the ConvLSTM learns well above chance where OFNN
 stays near it (evidence: ``studies/pages/thompson_vs_random.md``); its runs
 are judged by the convergence rule scaled to 9 classes
-(:func:`~sklearn_hardness.models.chance_scaled_threshold`).
+(:func:`~sklearn_hardness.models.is_converged` with ``threshold="chance"``).
 Every run goes to one results file, so an interrupted protocol resumes where
 it stopped.
 """
@@ -67,7 +67,7 @@ def run_paper_protocol(out, *, strategies=STRATEGIES, n_runs=None, quick=False, 
         unit = cfg.get("hardness_unit")
         parts += [
             f"== {preset}: {model}, e0={cfg['initial_epochs']} e={cfg['epochs_per_query']} "
-            f"M={cfg['max_reservoir']} N={cfg['n_iterations']} MC={cfg['n_mc_samples']} lr={cfg['lr']:g}, "
+            f"M={cfg['max_reservoir']} N={cfg['n_iterations']} MC={cfg['n_samples']} lr={cfg['lr']:g}, "
             f"{seeds} seeds x every test object" + (" [quick]" if quick else ""),
             f"-- model baselines ({cfg['n_initial']} presses per object, mean +- std over {seeds} seeds)",
             format_table(baseline_table(base), mae_unit=unit),

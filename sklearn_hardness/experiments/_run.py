@@ -141,7 +141,7 @@ def _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy, grou
         initial_epochs=cfg["initial_epochs"],
         epochs_per_query=cfg["epochs_per_query"],
         max_reservoir=cfg["max_reservoir"],
-        n_mc_samples=cfg["n_mc_samples"],
+        n_samples=cfg["n_samples"],
         classes=np.arange(n_classes),
         random_state=learner_seed,
     )

@@ -381,7 +381,7 @@ class ContactGeometryFeatures(TransformerMixin, BaseEstimator):
     See Also
     --------
     ContactProfileFeatures : The loading phase's timing, strength and area.
-    make_contact_geometry_pipeline : These features and a classifier.
+    sklearn_hardness.models.make_contact_geometry_pipeline : These features and a classifier.
 
     Notes
     -----

@@ -213,7 +213,7 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         the other finger), where changes outside the gel would count as
         contact. The region of
         :class:`~sklearn_hardness.preprocessing.ContactFrameSelector` and
-        :func:`~sklearn_hardness.experiments.make_peak_change_baseline`.
+        :func:`~sklearn_hardness.models.make_peak_change_baseline`.
     n_jobs : int or None, default=None
         Videos processed in parallel (joblib threads).
 

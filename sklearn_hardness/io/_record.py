@@ -45,13 +45,13 @@ def _open_capture(source):
         "n_frames": [Interval(numbers.Integral, 1, None, closed="left"), None],
         "duration": [Interval(numbers.Real, 0, None, closed="neither"), None],
         "fps": [Interval(numbers.Real, 0, None, closed="neither"), None],
-        "size": [tuple, list, None],
+        "image_size": [tuple, list, None],
         "path": [str, os.PathLike, None],
         "warmup": [Interval(numbers.Integral, 0, None, closed="left")],
     },
     prefer_skip_nested_validation=True,
 )
-def record_video(source, *, n_frames=None, duration=None, fps=None, size=None, path=None, warmup=0):
+def record_video(source, *, n_frames=None, duration=None, fps=None, image_size=None, path=None, warmup=0):
     """Record one press from a camera, a video file or a stream URL.
 
     Frames are read with OpenCV's :class:`cv2.VideoCapture`, converted to
@@ -74,10 +74,11 @@ def record_video(source, *, n_frames=None, duration=None, fps=None, size=None, p
         Frame rate asked of the camera and stored in the written file.
         ``None`` uses the rate the source reports (25 if it reports none).
         Cameras may ignore the request.
-    size : (height, width) or None, default=None
+    image_size : (height, width) or None, default=None
         Frame size asked of the camera; frames that arrive in another size
         are resized to it (``cv2.INTER_AREA``). ``None`` keeps the source's
-        size (GelSight Mini streams 240x320).
+        size (GelSight Mini streams 240x320). The same name as the size of
+        :func:`~sklearn_hardness.datasets.make_presses`'s frames.
     path : str, path-like or None, default=None
         Also write the frames here (any format :func:`write_video` writes;
         ``.avi`` is lossless).
@@ -98,7 +99,7 @@ def record_video(source, *, n_frames=None, duration=None, fps=None, size=None, p
         If the camera, file or URL cannot be opened.
     ValueError
         If neither or both of ``n_frames`` and ``duration`` are given, if
-        ``size`` is malformed, or if the source gives no frame at all.
+        ``image_size`` is malformed, or if the source gives no frame at all.
 
     See Also
     --------
@@ -112,13 +113,13 @@ def record_video(source, *, n_frames=None, duration=None, fps=None, size=None, p
     >>> from sklearn_hardness.io import record_video, write_video
     >>> source = os.path.join(tempfile.mkdtemp(), "camera.avi")
     >>> write_video(source, np.full((10, 24, 32, 3), 120, np.uint8))
-    >>> record_video(source, n_frames=6, size=(12, 16)).shape
+    >>> record_video(source, n_frames=6, image_size=(12, 16)).shape
     (6, 12, 16, 3)
     """
     if (n_frames is None) == (duration is None):
         raise ValueError("Pass exactly one of n_frames and duration (how long to record).")
-    if size is not None and not FRAME_SIZE.is_satisfied_by(size):
-        raise ValueError(f"size must be None or (height, width) with ints >= 2, got {size!r}.")
+    if image_size is not None and not FRAME_SIZE.is_satisfied_by(image_size):
+        raise ValueError(f"image_size must be None or (height, width) with ints >= 2, got {image_size!r}.")
     owned = not hasattr(source, "read")
     cap = _open_capture(source) if owned else source
     if not owned and not cap.isOpened():
@@ -126,9 +127,9 @@ def record_video(source, *, n_frames=None, duration=None, fps=None, size=None, p
     try:
         if fps is not None:
             cap.set(cv2.CAP_PROP_FPS, float(fps))
-        if size is not None:
-            cap.set(cv2.CAP_PROP_FRAME_HEIGHT, int(size[0]))
-            cap.set(cv2.CAP_PROP_FRAME_WIDTH, int(size[1]))
+        if image_size is not None:
+            cap.set(cv2.CAP_PROP_FRAME_HEIGHT, int(image_size[0]))
+            cap.set(cv2.CAP_PROP_FRAME_WIDTH, int(image_size[1]))
         rate = float(fps) if fps is not None else (cap.get(cv2.CAP_PROP_FPS) or 25.0)
         n = int(n_frames) if n_frames is not None else max(1, int(round(duration * rate)))
         for _ in range(warmup):
@@ -140,8 +141,8 @@ def record_video(source, *, n_frames=None, duration=None, fps=None, size=None, p
             if not ok:
                 break
             frame = _to_rgb(frame, source)
-            if size is not None and frame.shape[:2] != tuple(size):
-                frame = cv2.resize(frame, (int(size[1]), int(size[0])), interpolation=cv2.INTER_AREA)
+            if image_size is not None and frame.shape[:2] != tuple(image_size):
+                frame = cv2.resize(frame, (int(image_size[1]), int(image_size[0])), interpolation=cv2.INTER_AREA)
             frames.append(frame)
     finally:
         if owned:

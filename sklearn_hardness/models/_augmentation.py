@@ -33,10 +33,11 @@ class FrameAugmenter(BaseEstimator):
       pixel and frame, in the units of the input.
 
     Channels that hold the logarithm of an intensity (the ones
-    :class:`IntensityChannels` appends) are listed in ``log_channels``: the
+    the ``IntensityChannels`` step of
+    :func:`make_convlstm_pipeline` appends) are listed in ``log_channels``: the
     log of the gain (and drift) factor is added to them, so they stay the
     log statistics of the scaled frames (exactly where the change is well
-    above the floor of :class:`IntensityChannels`).
+    above the floor of ``IntensityChannels``).
 
     Parameters
     ----------

@@ -119,7 +119,7 @@ def is_converged(net, threshold=1.0, *, n_classes=None):
     epoch, as recorded by skorch (dropout on). The paper's data have 5
     classes; ``threshold="chance"`` carries its rule over to any number of
     classes as the same fraction of chance loss ``ln K``
-    (:func:`chance_scaled_threshold`: 1 at 5 classes, 1.365 at 9).
+    (the paper's 1 times ``ln K / ln 5``: 1 at 5 classes, 1.365 at 9).
 
     Parameters
     ----------
@@ -128,7 +128,7 @@ def is_converged(net, threshold=1.0, *, n_classes=None):
         with a ``train_loss`` history) after ``fit``, or the loss itself.
     threshold : float or "chance", default=1.0
         Largest training loss that counts as converged. ``"chance"``:
-        :func:`chance_scaled_threshold` of the number of classes.
+        the paper's 1 times ``ln K / ln 5`` at ``K`` classes.
     n_classes : int or None, default=None
         Number of classes for ``threshold="chance"``; None takes it from the
         net's ``classes_`` (needed when ``net`` is a loss value).

@@ -242,7 +242,7 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         The paper trains with 1e-3; at its other settings fewer initial
         trainings then pass its convergence rule than at 3e-3 (see Notes).
     max_epochs : int, default=100
-        Epochs of :meth:`fit`: the paper's initial training on its robot
+        Epochs of ``fit`` (skorch's): the paper's initial training on its robot
         data; continue with ``partial_fit(X, y, epochs=50)``.
     batch_size : int, default=8
     train_split : callable or None, default=None

@@ -201,7 +201,7 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
 
     See Also
     --------
-    MCDropoutClassifierBase.predict_proba_samples : MC dropout, one net.
+    ConvLSTMClassifier.predict_proba_samples : MC dropout, one net.
 
     Notes
     -----

@@ -29,7 +29,7 @@ class LaplaceLogisticRegression(LogisticRegression):
     the intercepts, and the (class- and sample-weighted) log-likelihood of
     the training data. The Laplace approximation is the Gaussian at the
     fitted coefficients whose precision is the objective's Hessian there
-    (:attr:`posterior_covariance_` is its inverse).
+    (``posterior_covariance_`` is its inverse).
     :meth:`predict_proba_samples` draws coefficients from it and returns
     their class probabilities, so the model drives active sampling
     (:class:`~sklearn_hardness.active.ActiveLearner`): its samples are the

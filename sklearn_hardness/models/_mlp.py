@@ -1,8 +1,15 @@
-"""MLP head on fixed features: OFNNClassifier and DINOv2NNClassifier."""
+"""MLP head on fixed features: OFNNClassifier, DINOv2NNClassifier and ContactProfileNNClassifier.
+
+The three keep the paper's names (and ours for the contact-profile head) but are one
+implementation, :class:`_MLPClassifier`, and one docstring, :data:`_MLP_DOCSTRING`; they
+differ in their description, defaults and example.
+"""
 
 from __future__ import annotations
 
+import inspect
 import numbers
+import textwrap
 
 import numpy as np
 import torch
@@ -137,77 +144,127 @@ class _MLPClassifier(MCDropoutClassifierBase):
         return 4 * (3 * int(self.hidden_units) + 2 * len(self.classes_))
 
 
-class OFNNClassifier(_MLPClassifier):
-    """Optical-flow features + MLP head with MC dropout (the paper's OFNN).
+#: The docstring of the three MLP classifiers, filled per class by :func:`_mlp_docstring`.
+_MLP_DOCSTRING = """{summary}
 
+{description}
+
+Parameters
+----------
+module : torch.nn.Module class, default=MLPHead
+    Network; built at fit with ``input_dim``, ``n_classes``,
+    ``hidden_units`` and ``dropout``. Its ``forward`` takes
+    ``(X, n_replicas=1)``.
+hidden_units : int, default={hidden_units}
+    Width of the hidden layer{paper_hidden_units}.
+dropout : float, default={dropout}
+    Dropout probability after the hidden layer{paper_dropout}. A plain
+    parameter, so ``GridSearchCV(pipe, {{"clf__dropout": [...]}})`` works;
+    setting it on a fitted net changes the live dropout layers.
+class_weight : dict, "balanced" or None, default=None
+    Weights of the classes in the loss, as in scikit-learn
+    (:func:`sklearn.utils.class_weight.compute_class_weight` on the
+    cold-start training labels; with ``classes``, ``"balanced"``
+    weighs the classes present and gives 1.0 to absent ones); a dict
+    maps labels to weights.
+random_state : int, RandomState instance or None, default=None
+    Seeds the initial weights, the shuffling and the training dropout
+    masks (without touching torch's global generator). ``None`` uses
+    torch's global generator.
+criterion : torch criterion class, default=torch.nn.CrossEntropyLoss
+    The module returns logits; ``predict_proba`` applies softmax.
+optimizer : torch optimizer class, default=torch.optim.Adam
+lr : float, default={lr}
+max_epochs : int, default={max_epochs}
+    Epochs of ``fit``; {paper_epochs}.
+batch_size : int, default={batch_size}
+train_split : callable or None, default=None
+    None trains on all of ``X``{paper_train_split}; see skorch.
+classes : array-like or None, default=None
+    All labels, if ``y`` may not contain every class, in any order
+    (``classes_`` is them sorted).
+verbose : int, default=0
+device : {{"cpu", "cuda", "auto"}} or str, default="cpu"
+    ``"auto"`` picks CUDA when available.
+**kwargs
+    Other skorch parameters (``callbacks``, ``iterator_train__*``,
+    ``optimizer__*``, ``module__*``, ``warm_start``...).
+
+Attributes
+----------
+classes_ : ndarray of shape (n_classes,)
+    Class labels.
+n_features_in_ : int
+    Number of features seen during fit.
+module_ : MLPHead
+    The trained network.
+history_ : skorch.History
+    Per-epoch training loss (``train_loss``).
+class_weight_ : ndarray of shape (n_classes,) or None
+    Weights of the classes in the loss.
+final_train_loss_ : float
+    Training loss of the last epoch (see
+    :func:`sklearn_hardness.models.is_converged`).
+{see_also}
+Examples
+--------
+{examples}
+"""
+
+#: What the paper says of its MLP head, where a class is the paper's (OFNN, DINOv2NN).
+_PAPER_NOTES = {
+    "paper_hidden_units": " (128 in the paper)",
+    "paper_dropout": " (0.2 in the paper)",
+    "paper_epochs": ("the paper trains the heads for 50 epochs initially, then 25 per "
+                     "active-sampling round via ``partial_fit(X, y, epochs=25)``"),
+    "paper_train_split": " (as the paper does)",
+}
+_OWN_NOTES = {
+    "paper_hidden_units": "",
+    "paper_dropout": "",
+    "paper_epochs": "``partial_fit(X, y, epochs=...)`` continues",
+    "paper_train_split": "",
+}
+
+
+def _mlp_docstring(summary, description, examples, *, paper, see_also=""):
+    """Class decorator: the class's docstring from :data:`_MLP_DOCSTRING`.
+
+    The three MLP classifiers share one implementation (:class:`_MLPClassifier`)
+    and so one parameter list; this is its one text. The defaults it shows
+    are read from the class's ``__init__``, so they cannot drift from the
+    signature. ``paper`` adds what the paper says of its MLP head.
+    """
+
+    def decorate(cls):
+        defaults = {name: p.default for name, p in inspect.signature(cls.__init__).parameters.items()}
+        text = _MLP_DOCSTRING.format(
+            summary=summary,
+            description=textwrap.dedent(description).strip(),
+            see_also=textwrap.dedent(see_also),
+            examples=textwrap.dedent(examples).strip(),
+            **{name: defaults[name] for name in ("hidden_units", "dropout", "lr", "max_epochs", "batch_size")},
+            **(_PAPER_NOTES if paper else _OWN_NOTES),
+        )
+        # indented as a docstring written in the class body (what inspect.cleandoc expects)
+        first, _, rest = text.partition("\n")
+        cls.__doc__ = first + "\n" + textwrap.indent(rest, "    ", lambda line: line.strip() != "")
+        return cls
+
+    return decorate
+
+
+@_mlp_docstring(
+    "Optical-flow features + MLP head with MC dropout (the paper's OFNN).",
+    """
     Input: 2-D features, e.g. the output of
     :class:`sklearn_hardness.features.OpticalFlowFeatures` (flattened
     Lucas-Kanade displacements). Standardising them (``StandardScaler``)
     before the net helps. The head is Linear(d, 128) -> ReLU -> dropout ->
     Linear(128, n_classes); :meth:`predict_proba_samples` gives MC-dropout
     samples for uncertainty.
-
-    Parameters
-    ----------
-    module : torch.nn.Module class, default=MLPHead
-        Network; built at fit with ``input_dim``, ``n_classes``,
-        ``hidden_units`` and ``dropout``. Its ``forward`` takes
-        ``(X, n_replicas=1)``.
-    hidden_units : int, default=128
-        Width of the hidden layer (128 in the paper).
-    dropout : float, default=0.2
-        Dropout probability after the hidden layer (0.2 in the paper). A plain
-        parameter, so ``GridSearchCV(pipe, {"clf__dropout": [...]})`` works;
-        setting it on a fitted net changes the live dropout layers.
-    class_weight : dict, "balanced" or None, default=None
-        Weights of the classes in the loss, as in scikit-learn
-        (:func:`sklearn.utils.class_weight.compute_class_weight` on the
-        cold-start training labels; with ``classes``, ``"balanced"``
-        weighs the classes present and gives 1.0 to absent ones); a dict
-        maps labels to weights.
-    random_state : int, RandomState instance or None, default=None
-        Seeds the initial weights, the shuffling and the training dropout
-        masks (without touching torch's global generator). ``None`` uses
-        torch's global generator.
-    criterion : torch criterion class, default=torch.nn.CrossEntropyLoss
-        The module returns logits; ``predict_proba`` applies softmax.
-    optimizer : torch optimizer class, default=torch.optim.Adam
-    lr : float, default=1e-3
-    max_epochs : int, default=50
-        Epochs of :meth:`fit` (the paper trains the heads for 50 epochs
-        initially, then 25 per active-sampling round via
-        ``partial_fit(X, y, epochs=25)``).
-    batch_size : int, default=32
-    train_split : callable or None, default=None
-        None trains on all of ``X`` (as the paper does); see skorch.
-    classes : array-like or None, default=None
-        All labels, if ``y`` may not contain every class, in any order
-        (``classes_`` is them sorted).
-    verbose : int, default=0
-    device : {"cpu", "cuda", "auto"} or str, default="cpu"
-        ``"auto"`` picks CUDA when available.
-    **kwargs
-        Other skorch parameters (``callbacks``, ``iterator_train__*``,
-        ``optimizer__*``, ``module__*``, ``warm_start``...).
-
-    Attributes
-    ----------
-    classes_ : ndarray of shape (n_classes,)
-        Class labels.
-    n_features_in_ : int
-        Number of features seen during fit.
-    module_ : MLPHead
-        The trained network.
-    history_ : skorch.History
-        Per-epoch training loss (``train_loss``).
-    class_weight_ : ndarray of shape (n_classes,) or None
-        Weights of the classes in the loss.
-    final_train_loss_ : float
-        Training loss of the last epoch (see
-        :func:`sklearn_hardness.models.is_converged`).
-
-    Examples
-    --------
+    """,
+    """
     >>> import numpy as np
     >>> from sklearn_hardness.models import OFNNClassifier
     >>> rng = np.random.default_rng(0)
@@ -217,79 +274,23 @@ class OFNNClassifier(_MLPClassifier):
     >>> clf = OFNNClassifier(max_epochs=30, random_state=0).fit(X, y)
     >>> clf.predict_proba_samples(X[:4], n_samples=10, random_state=0).shape
     (10, 4, 3)
+    """,
+    paper=True,
+)
+class OFNNClassifier(_MLPClassifier):
+    pass
+
+
+@_mlp_docstring(
+    "DINOv2 features + MLP head with MC dropout (the paper's DINOv2NN).",
     """
-
-
-class DINOv2NNClassifier(_MLPClassifier):
-    """DINOv2 features + MLP head with MC dropout (the paper's DINOv2NN).
-
     Input: 2-D features, e.g. the output of
     :class:`sklearn_hardness.features.DINOv2Features` (frozen DINOv2
     embeddings of the selected frames, concatenated). The backbone is not
     part of this net, so features are extracted once and MC sampling only
     re-runs the head. Same head as :class:`OFNNClassifier`.
-
-    Parameters
-    ----------
-    module : torch.nn.Module class, default=MLPHead
-        Network; built at fit with ``input_dim``, ``n_classes``,
-        ``hidden_units`` and ``dropout``. Its ``forward`` takes
-        ``(X, n_replicas=1)``.
-    hidden_units : int, default=128
-        Width of the hidden layer (128 in the paper).
-    dropout : float, default=0.2
-        Dropout probability after the hidden layer (0.2 in the paper). A plain
-        parameter, so ``GridSearchCV(pipe, {"clf__dropout": [...]})`` works;
-        setting it on a fitted net changes the live dropout layers.
-    class_weight : dict, "balanced" or None, default=None
-        Weights of the classes in the loss, as in scikit-learn
-        (:func:`sklearn.utils.class_weight.compute_class_weight` on the
-        cold-start training labels; with ``classes``, ``"balanced"``
-        weighs the classes present and gives 1.0 to absent ones); a dict
-        maps labels to weights.
-    random_state : int, RandomState instance or None, default=None
-        Seeds the initial weights, the shuffling and the training dropout
-        masks (without touching torch's global generator). ``None`` uses
-        torch's global generator.
-    criterion : torch criterion class, default=torch.nn.CrossEntropyLoss
-        The module returns logits; ``predict_proba`` applies softmax.
-    optimizer : torch optimizer class, default=torch.optim.Adam
-    lr : float, default=1e-3
-    max_epochs : int, default=50
-        Epochs of :meth:`fit` (the paper trains the heads for 50 epochs
-        initially, then 25 per active-sampling round via
-        ``partial_fit(X, y, epochs=25)``).
-    batch_size : int, default=32
-    train_split : callable or None, default=None
-        None trains on all of ``X`` (as the paper does); see skorch.
-    classes : array-like or None, default=None
-        All labels, if ``y`` may not contain every class, in any order
-        (``classes_`` is them sorted).
-    verbose : int, default=0
-    device : {"cpu", "cuda", "auto"} or str, default="cpu"
-        ``"auto"`` picks CUDA when available.
-    **kwargs
-        Other skorch parameters (``callbacks``, ``iterator_train__*``,
-        ``optimizer__*``, ``module__*``, ``warm_start``...).
-
-    Attributes
-    ----------
-    classes_ : ndarray of shape (n_classes,)
-        Class labels.
-    n_features_in_ : int
-        Number of features seen during fit.
-    module_ : MLPHead
-        The trained network.
-    history_ : skorch.History
-        Per-epoch training loss (``train_loss``).
-    class_weight_ : ndarray of shape (n_classes,) or None
-        Weights of the classes in the loss.
-    final_train_loss_ : float
-        Training loss of the last epoch (see
-        :func:`sklearn_hardness.models.is_converged`).
-
-    Examples
-    --------
+    """,
+    """
     >>> import numpy as np
     >>> from sklearn_hardness.models import DINOv2NNClassifier
     >>> rng = np.random.default_rng(0)
@@ -298,78 +299,29 @@ class DINOv2NNClassifier(_MLPClassifier):
     >>> clf = DINOv2NNClassifier(max_epochs=5, random_state=0).fit(X, y)
     >>> clf.predict_proba(X[:2]).shape
     (2, 3)
+    """,
+    paper=True,
+)
+class DINOv2NNClassifier(_MLPClassifier):
+    pass
+
+
+@_mlp_docstring(
+    "Contact-profile features + MLP head with MC dropout.",
     """
-
-
-class ContactProfileNNClassifier(_MLPClassifier):
-    """Contact-profile features + MLP head with MC dropout.
-
     Input: 2-D features of the loading phase, e.g. the twelve columns of
     :class:`sklearn_hardness.features.ContactProfileFeatures` (peak change,
     loading time, contact area and spread, how area grows with intensity,
-    ...), which
-    carry hardness across object shapes better than the frames themselves.
-    Same head as :class:`OFNNClassifier` (Linear -> ReLU -> dropout ->
-    Linear), sized for a handful of features: a narrower hidden layer, a
-    higher learning rate and more epochs, so that
+    ...), which carry hardness across object shapes better than the frames
+    themselves. Same head as :class:`OFNNClassifier` (Linear -> ReLU ->
+    dropout -> Linear), sized for a handful of features: a narrower hidden
+    layer, a higher learning rate and more epochs, so that
     :meth:`predict_proba_samples` gives MC-dropout samples for active
     sampling on the features that generalise to new objects.
     Standardise the features first (``StandardScaler``), as
     :func:`~sklearn_hardness.models.make_contact_profile_pipeline` does.
-
-    Parameters
-    ----------
-    module : torch.nn.Module class, default=MLPHead
-        Network; built at fit with ``input_dim``, ``n_classes``,
-        ``hidden_units`` and ``dropout``. Its ``forward`` takes
-        ``(X, n_replicas=1)``.
-    hidden_units : int, default=64
-        Width of the hidden layer.
-    dropout : float, default=0.2
-        Dropout probability after the hidden layer; a plain parameter, so
-        ``GridSearchCV(pipe, {"clf__dropout": [...]})`` works.
-    class_weight : dict, "balanced" or None, default=None
-        Weights of the classes in the loss, as in scikit-learn.
-    random_state : int, RandomState instance or None, default=None
-        Seeds the initial weights, the shuffling and the training dropout
-        masks (without touching torch's global generator).
-    criterion : torch criterion class, default=torch.nn.CrossEntropyLoss
-    optimizer : torch optimizer class, default=torch.optim.Adam
-    lr : float, default=3e-3
-    max_epochs : int, default=100
-        Epochs of :meth:`fit`; ``partial_fit(X, y, epochs=...)`` continues.
-    batch_size : int, default=32
-    train_split : callable or None, default=None
-        None trains on all of ``X``; see skorch.
-    classes : array-like or None, default=None
-        All labels, if ``y`` may not contain every class, in any order
-        (``classes_`` is them sorted).
-    verbose : int, default=0
-    device : {"cpu", "cuda", "auto"} or str, default="cpu"
-    **kwargs
-        Other skorch parameters (``callbacks``, ``optimizer__*``, ...).
-
-    Attributes
-    ----------
-    classes_ : ndarray of shape (n_classes,)
-        Class labels.
-    n_features_in_ : int
-        Number of features seen during fit.
-    module_ : MLPHead
-        The trained network.
-    history_ : skorch.History
-        Per-epoch training loss (``train_loss``).
-    class_weight_ : ndarray of shape (n_classes,) or None
-        Weights of the classes in the loss.
-    final_train_loss_ : float
-        Training loss of the last epoch.
-
-    See Also
-    --------
-    make_contact_profile_pipeline : Videos to this classifier in one pipeline.
-
-    Examples
-    --------
+    """,
+    """
     >>> import numpy as np
     >>> from sklearn_hardness.models import ContactProfileNNClassifier
     >>> rng = np.random.default_rng(0)
@@ -379,8 +331,15 @@ class ContactProfileNNClassifier(_MLPClassifier):
     >>> clf = ContactProfileNNClassifier(max_epochs=20, random_state=0).fit(X, y)
     >>> clf.predict_proba_samples(X[:4], n_samples=10, random_state=0).shape
     (10, 4, 3)
-    """
-
+    """,
+    paper=False,
+    see_also="""
+    See Also
+    --------
+    make_contact_profile_pipeline : Videos to this classifier in one pipeline.
+    """,
+)
+class ContactProfileNNClassifier(_MLPClassifier):
     def __init__(
         self,
         module=MLPHead,

@@ -153,7 +153,7 @@ def _selector(n_between, frame_size, color, roi, subtract_first=True):
 
 def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", intensity_channels=False,
                            augment=False, roi=None, **classifier_params):
-    """Videos -> contact frames -> :class:`FrameScaler` -> [:class:`IntensityChannels`] -> :class:`ConvLSTMClassifier`.
+    """Videos -> contact frames -> ``FrameScaler`` -> [``IntensityChannels``] -> :class:`~sklearn_hardness.models.ConvLSTMClassifier`.
 
     Which input is best depends on whether the test objects were seen in
     training:
@@ -178,7 +178,7 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
     color : {"gray", "rgb"}, default="gray"
     intensity_channels : bool, default=False
         Append each frame's log mean, spread and maximum change as channels
-        (:class:`IntensityChannels`): for objects not seen in training.
+        (an ``IntensityChannels`` step): for objects not seen in training.
     augment : bool or FrameAugmenter, default=False
         Random mirroring and gain of every training batch (the
         :class:`ConvLSTMClassifier`'s ``augment``). True: a default
@@ -232,7 +232,7 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
 
 def make_ofnn_pipeline(*, n_between=2, frame_size=(120, 160), n_features=500, flow_output="magnitude_quantiles",
                        roi=None, **classifier_params):
-    """Videos -> contact frames -> :class:`OpticalFlowFeatures` -> :class:`OFNNClassifier`.
+    """Videos -> contact frames -> :class:`~sklearn_hardness.features.OpticalFlowFeatures` -> :class:`~sklearn_hardness.models.OFNNClassifier`.
 
     Parameters
     ----------
@@ -280,7 +280,7 @@ def make_ofnn_pipeline(*, n_between=2, frame_size=(120, 160), n_features=500, fl
 
 def make_dinov2nn_pipeline(*, n_between=1, frame_size=(112, 150), model="facebook/dinov2-small", roi=None,
                            **classifier_params):
-    """Videos -> contact frames -> :class:`DINOv2Features` -> :class:`DINOv2NNClassifier`.
+    """Videos -> contact frames -> :class:`~sklearn_hardness.features.DINOv2Features` -> :class:`~sklearn_hardness.models.DINOv2NNClassifier`.
 
     Parameters
     ----------
@@ -291,7 +291,7 @@ def make_dinov2nn_pipeline(*, n_between=1, frame_size=(112, 150), model="faceboo
         to the backbone.
     model : str, path-like or torch.nn.Module, default="facebook/dinov2-small"
         The DINOv2 backbone: a Hugging Face id in the local cache, a local
-        directory or a module (see :class:`DINOv2Features`; nothing is
+        directory or a module (see :class:`~sklearn_hardness.features.DINOv2Features`; nothing is
         downloaded at run time).
     roi : tuple (top, bottom, left, right) or None, default=None
         ``roi`` of the :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`

@@ -35,7 +35,7 @@ def _flat(name):
 
 
 class StackedConvLSTMNet(torch.nn.Module):
-    """K independent copies of a net (e.g. :class:`ConvLSTMNet`) trained and run as one module.
+    """K independent copies of a net (e.g. the ConvLSTM net of :class:`ConvLSTMClassifier`) trained and run as one module.
 
     Parameter ``p`` of member ``k`` is row ``k`` of the stacked parameter
     (shape ``(K,) + p.shape``; the dots of its name become ``__``). A forward
@@ -48,7 +48,7 @@ class StackedConvLSTMNet(torch.nn.Module):
     Training: sum the members' losses (:meth:`member_losses` gives them)
     before ``backward``, so member ``k``'s gradient is the gradient of its own
     loss (a mean would divide it by K). An element-wise optimiser over
-    :meth:`parameters` (Adam, AdamW, SGD with momentum, RMSprop) then keeps
+    :meth:`~torch.nn.Module.parameters` (Adam, AdamW, SGD with momentum, RMSprop) then keeps
     per-element state, which is exactly K optimisers of K separate nets
     stepped together. Optimisers or steps that mix elements (gradient-norm
     clipping over all parameters, LBFGS) are not per member.
@@ -57,7 +57,8 @@ class StackedConvLSTMNet(torch.nn.Module):
     ----------
     nets : sequence of torch.nn.Module
         The members: modules of one class with the same parameter and buffer
-        names and shapes (e.g. :class:`ConvLSTMNet` built with the same
+        names and shapes (e.g. ``ConvLSTMNet``, the default ``module`` of
+        :class:`ConvLSTMClassifier`, built with the same
         arguments). Their current weights are copied; the nets themselves are
         not kept. Their ``forward(X, n_replicas=1)`` is called per member.
 
@@ -73,7 +74,7 @@ class StackedConvLSTMNet(torch.nn.Module):
 
     See Also
     --------
-    ConvLSTMNet : the usual member.
+    ConvLSTMClassifier : whose net (``module_``) is the usual member.
     EnsembleClassifier : trains identically configured ConvLSTM members as
         one stacked net (``stacked=True``).
 
@@ -145,7 +146,8 @@ class StackedConvLSTMNet(torch.nn.Module):
         seeds : sequence of int, int, RandomState instance or None
             K seeds, or a ``random_state`` from which K seeds are drawn.
         net_cls : torch.nn.Module class or None, default=None
-            The member's class; ``None`` means :class:`ConvLSTMNet`.
+            The member's class; ``None`` means ``ConvLSTMNet``, the default
+            ``module`` of :class:`ConvLSTMClassifier`.
         **net_kwargs
             Arguments of ``net_cls``.
 

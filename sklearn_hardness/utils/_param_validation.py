@@ -91,5 +91,5 @@ class ValueRange(_CustomConstraint):
 
 #: The size of frames fed to a model, ``(height, width)`` with ints >= 2: the one rule for
 #: ``ContactFrameSelector(frame_size=...)``, the factories' and the experiments' ``frame_size``
-#: and ``record_video(size=...)``.
+#: and ``record_video(image_size=...)``.
 FRAME_SIZE = Pair(Interval(numbers.Integral, 2, None, closed="left"), "(height, width)")

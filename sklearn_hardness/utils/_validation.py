@@ -257,7 +257,7 @@ def check_roi(roi):
     and width in [0, 1], ``top < bottom`` and ``left < right``. The one check
     of every ``roi`` parameter (:class:`~sklearn_hardness.preprocessing.ContactFrameSelector`,
     :class:`~sklearn_hardness.features.ContactProfileFeatures`,
-    :func:`~sklearn_hardness.experiments.peak_contact_change`, ...), so a bad
+    :func:`~sklearn_hardness.models.peak_contact_change`, ...), so a bad
     region gets the same message everywhere.
     """
     if roi is None:
