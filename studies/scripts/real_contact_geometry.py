@@ -2,7 +2,11 @@
 
 Usage::
 
-    python studies/scripts/real_contact_geometry.py --data MANIFEST [--n-repeats 5] [--n-jobs 1]
+    python studies/scripts/real_contact_geometry.py --data DATA [--n-repeats 5] [--n-jobs 1]
+
+``DATA``: a copy of the public PhysiCLeAR set (its ``dataset/`` and
+``utils/constants.py``), read with the development objects alone
+(``_physiclear.py``), or a manifest of their presses.
 
 Every variant is measured by the same object-disjoint cross-validation
 (:func:`~sklearn_hardness.model_selection.evaluate_pipelines`, ``cv=5``,
@@ -35,7 +39,7 @@ from sklearn.utils import Bunch
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.provenance import header
-from sklearn_hardness.datasets import load_press_videos
+from _physiclear import load_development
 from sklearn_hardness.features import ContactGeometryFeatures, ContactProfileFeatures
 from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation
 from sklearn_hardness.models import (ContactProfileNNClassifier, LaplaceLogisticRegression, MCDropoutPipeline,
@@ -95,13 +99,14 @@ def _pipeline(table, names, columns, head, seed):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", required=True, help="manifest CSV of the presses (path,label,object_id,...)")
+    parser.add_argument("--data", required=True, help="copy of the public PhysiCLeAR set (dataset/, utils/constants.py)"
+                        " or a manifest CSV of the development objects' presses")
     parser.add_argument("--n-repeats", type=int, default=5)
     parser.add_argument("--n-jobs", type=int, default=1)
     args = parser.parse_args(argv)
     print(header(sys.argv if argv is None else [sys.argv[0], *argv]), flush=True)
 
-    data = load_press_videos(args.data)
+    data = load_development(args.data)
     geometry = ContactGeometryFeatures(features="all").fit([np.zeros((3, 8, 8, 3), np.uint8)])
     strided, rows, t_geom, t_read = [], [], 0.0, 0.0
     for i in range(len(data.videos)):

@@ -10,7 +10,9 @@ seed 0, net seed 0): the plain net's figures on the same folds are in
 
     python studies/scripts/real_net_augmentation.py --data DATA [--n-repeats 5] [--n-jobs 2] [--out FILE]
 
-``DATA``: the manifest written by ``../shared/physiclear_manifest.py`` (or its folder).
+``DATA``: a copy of the public PhysiCLeAR set (its ``dataset/`` and
+``utils/constants.py``), read with the development objects alone
+(``_physiclear.py``), or a manifest of their presses (or its folder).
 """
 
 import argparse
@@ -22,6 +24,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import _harness  # noqa: E402,F401 - puts the repository root on sys.path
 from harness.provenance import report  # noqa: E402
+from _physiclear import load_development  # noqa: E402
 
 from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation  # noqa: E402
 from sklearn_hardness.models import make_named_pipeline  # noqa: E402
@@ -29,7 +32,8 @@ from sklearn_hardness.models import make_named_pipeline  # noqa: E402
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", required=True, help="manifest.csv of real presses (or its folder)")
+    parser.add_argument("--data", required=True, help="copy of the public PhysiCLeAR set (dataset/, utils/constants.py)"
+                        " or a manifest.csv of the development objects' presses (or its folder)")
     parser.add_argument("--n-repeats", type=int, default=5)
     parser.add_argument("--n-jobs", type=int, default=2)
     parser.add_argument("--out", help="also write the table here, under a header")
@@ -37,8 +41,8 @@ def main(argv=None):
     start = time.perf_counter()
     pipelines = {"convlstm_intensity_augment": make_named_pipeline("convlstm_intensity", augment=True,
                                                                    random_state=0)}
-    result = evaluate_pipelines(args.data, pipelines, cv=5, n_repeats=args.n_repeats, n_jobs=args.n_jobs,
-                                random_state=0)
+    result = evaluate_pipelines(load_development(args.data), pipelines, cv=5, n_repeats=args.n_repeats,
+                                n_jobs=args.n_jobs, random_state=0)
     text = format_evaluation(result) + f"\ntotal {time.perf_counter() - start:.0f} s"
     report(text, args.out)
 
