@@ -6,6 +6,8 @@ import pytest
 from sklearn_hardness.features import ContactGeometryFeatures, ImprintTextureFeatures
 from sklearn_hardness.features import _contact_geometry, _imprint_texture
 from sklearn_hardness.features._loading_moments import loading_moments
+from sklearn_hardness.model_selection._per_press import split_per_press
+from sklearn_hardness.models import make_imprint_texture_pipeline, make_named_pipeline
 
 H, W = 96, 128
 N, START, TOP = 24, 6, 16  # frames; the press starts sinking in at START and is deepest from TOP on
@@ -207,3 +209,16 @@ def test_bad_input_is_named():
     with pytest.raises(Exception, match="not fitted"):
         ImprintTextureFeatures().transform([press(dome())])
 
+
+def test_pipeline_by_name_and_its_posterior_samples():
+    videos = [press(stripes(8.0), seed=s) for s in range(4)] + [press(dots(8.0), seed=s) for s in range(4)]
+    y = np.array([0] * 4 + [1] * 4)
+    pipe = make_imprint_texture_pipeline(descriptors=["gabor"], moments=[1.0]).fit(videos, y)
+    assert (pipe.predict(videos) == y).all()
+    assert pipe.predict_proba_samples(videos[:3], n_samples=4, random_state=0).shape == (4, 3, 2)
+    named = make_named_pipeline("imprint_texture", roi=(0.1, 0.9, 0.1, 0.9))
+    assert named.named_steps["features"].roi == (0.1, 0.9, 0.1, 0.9) and named.named_steps["clf"].C == 0.1
+    prefix, rest = split_per_press(named)  # evaluate computes the features once per press for all folds
+    assert [n for n, _ in prefix.steps] == ["features"] and [n for n, _ in rest.steps] == ["scale", "clf"]
+    with pytest.raises(ValueError, match="head"):
+        make_imprint_texture_pipeline(head="svm")
