@@ -76,6 +76,9 @@ _REGISTRY = dict([
     _entry("contact_geometry", _PIPELINES, "make_contact_geometry_pipeline", {"head": "logistic"}, random=False,
            summary="contact geometry from the gel's shading (twelve scale-free features) + logistic regression "
                    "(Laplace posterior samples)"),
+    _entry("imprint_texture", _PIPELINES, "make_imprint_texture_pipeline", {"head": "logistic"}, random=False,
+           summary="texture of the imprint at half rise and peak (local binary patterns, co-occurrence, Gabor, "
+                   "spectrum, colour) + logistic regression (Laplace posterior samples)"),
     _entry("contact_profile_nn", _PIPELINES, "make_contact_profile_pipeline", {"head": "nn"},
            summary="contact-profile features of the whole video + an MC-dropout MLP"),
     _entry("convlstm", _PIPELINES, "make_convlstm_pipeline", {"intensity_channels": False},

@@ -45,8 +45,8 @@ from sklearn.utils import get_tags
 from sklearn.utils import estimator_checks as ec
 
 from sklearn_hardness.active import ActiveLearner
-from sklearn_hardness.features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, LoadingCompliance,
-                                       OpticalFlowFeatures)
+from sklearn_hardness.features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features,
+                                       ImprintTextureFeatures, LoadingCompliance, OpticalFlowFeatures)
 from sklearn_hardness.models import (
     ContactProfileNNClassifier,
     ConvLSTMClassifier,
@@ -90,6 +90,7 @@ ESTIMATORS = {
     "IntensityChannels": (IntensityChannels, "frames"),
     "ContactProfileFeatures": (lambda: ContactProfileFeatures(), "videos"),
     "ContactGeometryFeatures": (lambda: ContactGeometryFeatures(max_side=40), "videos"),
+    "ImprintTextureFeatures": (lambda: ImprintTextureFeatures(max_side=40), "videos"),
     "LoadingCompliance": (LoadingCompliance, "force_position"),
     "OFNNClassifier": (_ofnn, "table"),
     "DINOv2NNClassifier": (
@@ -291,6 +292,9 @@ FEATURE_SUBSETS = {
         lambda: ContactProfileFeatures(features=("log_loading_time", "log_peak_change")), "videos"),
     "ContactGeometryFeatures(features=scale_free)": (
         lambda: ContactGeometryFeatures(features="scale_free", max_side=40), "videos"),
+    "ImprintTextureFeatures(descriptors=2, moments=3)": (
+        lambda: ImprintTextureFeatures(descriptors=("spectrum", "lbp"), moments=(1.0, 0.25, 0.5), max_side=40),
+        "videos"),
     "LoadingCompliance(features=2)": (
         lambda: LoadingCompliance(features=("travel", "hertz_compliance")), "force_position"),
 }

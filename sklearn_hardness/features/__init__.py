@@ -8,6 +8,9 @@
 - :class:`ContactGeometryFeatures`: the contact's depth, edges, shape and
   texture over the loading phase, read from the gel's shading (``features="scale_free"``:
   those that do not grow with how hard the press is made).
+- :class:`ImprintTextureFeatures`: the texture of the imprint (local binary
+  patterns, co-occurrence, Gabor energies, power spectrum, colour) at moments
+  of the loading phase.
 - :class:`ContactProfileFeatures`: shape- and texture-normalised features of
   a whole press video's loading phase.
 - :class:`LoadingCompliance`: the compliance of gel and object from the
@@ -17,6 +20,7 @@
 from ._contact_geometry import ContactGeometryFeatures
 from ._contact_profile import ContactProfileFeatures
 from ._dinov2 import DINOv2Features
+from ._imprint_texture import ImprintTextureFeatures
 from ._loading_compliance import LoadingCompliance
 from ._optical_flow import OpticalFlowFeatures
 
@@ -24,6 +28,7 @@ __all__ = [
     "ContactGeometryFeatures",
     "ContactProfileFeatures",
     "DINOv2Features",
+    "ImprintTextureFeatures",
     "LoadingCompliance",
     "OpticalFlowFeatures",
 ]

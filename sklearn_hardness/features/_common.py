@@ -50,12 +50,12 @@ def to_uint8_grey(X, value_range):
     return out
 
 
-def check_feature_names(features, known):
+def check_feature_names(features, known, *, param="features"):
     """The output columns a ``features`` parameter names, as a tuple, checked against ``known``.
 
     ``"all"`` gives ``known`` in its order; a sequence gives its names in its
     own order. Unknown, repeated or no names are an error that lists the
-    known ones.
+    known ones and names the parameter (``param``).
     """
     if isinstance(features, str):  # "all" (the constraint allows no other string)
         return tuple(known)
@@ -65,7 +65,7 @@ def check_feature_names(features, known):
     if unknown or repeated or not features:
         problem = (f"got unknown {unknown}" if unknown else f"got {repeated} more than once" if repeated
                    else "got none")
-        raise ValueError(f"features must be 'all' or a non-empty sequence of distinct names from {list(known)}; "
+        raise ValueError(f"{param} must be 'all' or a non-empty sequence of distinct names from {list(known)}; "
                          f"{problem}.")
     return features
 

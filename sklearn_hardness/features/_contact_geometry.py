@@ -23,11 +23,11 @@ from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
 from sklearn.utils._param_validation import Interval
 from sklearn.utils.validation import check_is_fitted
 
-from ..preprocessing._contact_curve import _as_float255, _check_float_range, _smooth
+from ..preprocessing._contact_curve import _as_float255, _check_float_range
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
 from ._common import check_feature_names, feature_columns
-from ._contact_profile import _n_precontact
+from ._loading_moments import _frame_medians, _norm, loading_moments
 
 __all__ = ["ContactGeometryFeatures"]
 
@@ -73,19 +73,29 @@ def _small_rgb(video, max_side, roi, name):
     240x320 GelSight Mini frame it divides the codec's pixel noise by about
     four, where the contact signal is a few grey levels.
     """
+    return _block_mean(_checked_roi(video, roi, name), max_side, name)
+
+
+def _checked_roi(video, roi, name):
+    """The video checked (float values in [0, 1] over all of it) and cropped to ``roi``."""
     video = check_video(video, min_frames=1, name=name)
     _check_float_range(video, name)  # the whole video, before the crop and the averaging
     rows, cols = roi_slices(video.shape[1:3], roi, name)
-    video = video[:, rows, cols]
+    return video[:, rows, cols]
+
+
+def _block_mean(video, max_side, name, frames=None):
+    """The frames (all, or those indexed by ``frames``) averaged in blocks to about ``max_side`` pixels, float32."""
     t, h, w, c = video.shape
+    frames = range(t) if frames is None else frames
     f = max(1, max(h, w) // max_side)
     hs, ws = max(1, h // f), max(1, w // f)
-    out = np.empty((t, hs, ws, c), np.float32)
-    for i in range(t):
+    out = np.empty((len(frames), hs, ws, c), np.float32)
+    for k, i in enumerate(frames):
         frame = _as_float255(video[i, : hs * f, : ws * f], name)
         if f > 1:  # an integer factor: OpenCV's area interpolation is the mean of each f x f block
             frame = cv2.resize(frame, (ws, hs), interpolation=cv2.INTER_AREA).reshape(hs, ws, c)
-        out[i] = frame
+        out[k] = frame
     return out
 
 
@@ -174,22 +184,6 @@ def _shape(z, slope, texture_map, mag, noise, noise_factor):
                 ecc=ecc, texture=texture)
 
 
-def _norm(d):
-    """Euclidean norm over the last (channel) axis, summed channel by channel (faster than a short-axis reduction)."""
-    out = d[..., 0] * d[..., 0]
-    for ch in range(1, d.shape[-1]):
-        out += d[..., ch] * d[..., ch]
-    return np.sqrt(out)
-
-
-def _frame_medians(d):
-    """Median change of each frame and channel, shape (T, 1, 1, C), on every 4th pixel (plenty for an offset)."""
-    t, c = d.shape[0], d.shape[-1]
-    flat = d.reshape(t, -1, c)
-    sub = flat[:, ::4] if flat.shape[1] >= 400 else flat
-    return np.median(sub, axis=1)[:, None, None, :]
-
-
 def _loglog_slope(x, y):
     """Least-squares slope of log y on log x (0 where x does not vary)."""
     lx, ly = np.log(np.maximum(x, _LOG_FLOOR)), np.log(np.maximum(y, _LOG_FLOOR))
@@ -201,29 +195,17 @@ def _loglog_slope(x, y):
 def _geometry(small, noise_factor, sigma):
     """The features of one press from its block-averaged frames (T, h, w, C), in FEATURE_NAMES order."""
     t, h, w, c = small.shape
-    # change to the first frame, less each frame's median (uniform illumination drift)
-    d0 = small - small[0]
-    d0 -= _frame_medians(d0)
-    curve = _norm(d0).reshape(t, -1).mean(axis=1, dtype=np.float64)
-    if t < 3 or curve.max() <= 0:
+    found = loading_moments(small, MOMENTS)
+    if found is None:
         row = np.zeros(len(FEATURE_NAMES))
         row[FEATURE_NAMES.index("log_depth")] = np.log(_LOG_FLOOR)
         row[FEATURE_NAMES.index("log_slope")] = np.log(_LOG_FLOOR)
         row[FEATURE_NAMES.index("log_contrast")] = np.log(_LOG_FLOOR)
         row[FEATURE_NAMES.index("log_spread")] = np.log(1e-4)
         return row
-    smooth = _smooth(curve)
-    i_peak = int(np.argmax(smooth))
-    n_pre = _n_precontact(smooth, i_peak)
+    n_pre, i_peak, frames = found
     # the reference: the mean of the pre-contact frames (quieter than the first frame alone)
     ref = small[:n_pre].mean(axis=0)
-    level = float(np.median(smooth[1:n_pre])) if n_pre > 1 else 0.0
-    span = max(float(smooth[i_peak]) - level, _EPS)
-    frames = []
-    for q in MOMENTS:
-        hit = np.flatnonzero(smooth[: i_peak + 1] - level >= q * span)
-        frames.append(int(hit[0]) if hit.size else i_peak)
-    frames[-1] = i_peak
     # only the pre-contact frames (for the noise) and the moments are read further
     pre = list(range(1, n_pre)) if n_pre >= 3 else []
     wanted = sorted(set(pre) | set(frames))

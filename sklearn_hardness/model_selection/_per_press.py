@@ -26,7 +26,8 @@ from sklearn.pipeline import Pipeline
 from sklearn.preprocessing import FunctionTransformer
 from sklearn.utils import _safe_indexing
 
-from ..features import ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
+from ..features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, ImprintTextureFeatures,
+                        OpticalFlowFeatures)
 from ..features._common import feature_columns
 from ..features._contact_profile import FEATURE_NAMES
 from ..preprocessing import ContactFrameSelector
@@ -37,8 +38,8 @@ __all__ = ["FailingPressesError", "all_columns", "describe", "prefix_key", "spli
            "transform_per_press"]
 
 #: Exact classes (not subclasses, whose ``fit`` may learn) that map each press by itself.
-_PER_PRESS_TYPES = (ContactFrameSelector, ContactProfileFeatures, ContactGeometryFeatures, OpticalFlowFeatures,
-                    DINOv2Features)
+_PER_PRESS_TYPES = (ContactFrameSelector, ContactProfileFeatures, ContactGeometryFeatures, ImprintTextureFeatures,
+                    OpticalFlowFeatures, DINOv2Features)
 
 
 def _is_per_press(step):

@@ -33,6 +33,7 @@ from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
 from ._pipelines import (
     MCDropoutPipeline,
     make_contact_geometry_pipeline,
+    make_imprint_texture_pipeline,
     make_contact_profile_pipeline,
     make_convlstm_pipeline,
     make_dinov2nn_pipeline,
@@ -54,6 +55,7 @@ __all__ = [
     "make_dinov2nn_pipeline",
     "make_contact_profile_pipeline",
     "make_contact_geometry_pipeline",
+    "make_imprint_texture_pipeline",
     "make_loading_compliance_pipeline",
     "FrameAugmenter",
     "MCDropoutPipeline",

@@ -19,8 +19,8 @@ from sklearn.preprocessing import FunctionTransformer, StandardScaler
 from sklearn.utils.metaestimators import available_if
 from sklearn.utils.validation import check_is_fitted
 
-from ..features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, LoadingCompliance,
-                        OpticalFlowFeatures)
+from ..features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, ImprintTextureFeatures,
+                        LoadingCompliance, OpticalFlowFeatures)
 from ..preprocessing import ContactFrameSelector
 from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
@@ -38,6 +38,7 @@ __all__ = [
     "make_dinov2nn_pipeline",
     "make_contact_profile_pipeline",
     "make_contact_geometry_pipeline",
+    "make_imprint_texture_pipeline",
     "make_loading_compliance_pipeline",
 ]
 
@@ -502,6 +503,17 @@ def make_loading_compliance_pipeline(*, features=("hertz_compliance",), onset=0.
     ])
 
 
+def _table_head(head, classifier_params):
+    """The head of a features -> scaler -> classifier pipeline: balanced logistic regression or MC-dropout MLP."""
+    if head not in ("logistic", "nn"):
+        raise ValueError(f"head must be 'logistic' or 'nn', got {head!r}.")
+    params = {"class_weight": "balanced", **classifier_params}
+    if head == "logistic":
+        params.setdefault("max_iter", 2000)
+        return LaplaceLogisticRegression(**params)
+    return ContactProfileNNClassifier(**params)
+
+
 def make_contact_geometry_pipeline(*, head="logistic", features="scale_free", with_profile=False, max_side=80, roi=None,
                                    **classifier_params):
     """Videos -> :class:`~sklearn_hardness.features.ContactGeometryFeatures` (and optionally the contact profile) -> scaler -> classifier.
@@ -544,14 +556,7 @@ def make_contact_geometry_pipeline(*, head="logistic", features="scale_free", wi
     >>> [name for name, _ in pipe.steps]
     ['features', 'scale', 'clf']
     """
-    if head not in ("logistic", "nn"):
-        raise ValueError(f"head must be 'logistic' or 'nn', got {head!r}.")
-    params = {"class_weight": "balanced", **classifier_params}
-    if head == "logistic":
-        params.setdefault("max_iter", 2000)
-        clf = LaplaceLogisticRegression(**params)
-    else:
-        clf = ContactProfileNNClassifier(**params)
+    clf = _table_head(head, classifier_params)
     geometry = ContactGeometryFeatures(features=features, max_side=max_side, roi=roi)
     if with_profile:
         step = FeatureUnion([("geometry", geometry),
@@ -559,3 +564,56 @@ def make_contact_geometry_pipeline(*, head="logistic", features="scale_free", wi
     else:
         step = geometry
     return MCDropoutPipeline([("features", step), ("scale", StandardScaler()), ("clf", clf)])
+
+
+def make_imprint_texture_pipeline(*, head="logistic", descriptors="all", moments=(0.5, 1.0), max_side=160, roi=None,
+                                  **classifier_params):
+    """Videos -> :class:`~sklearn_hardness.features.ImprintTextureFeatures` -> scaler -> classifier.
+
+    The texture of the imprint (local binary patterns, co-occurrence,
+    Gabor energies, power spectrum and colour of the change to the
+    pre-contact frames) at half rise and at the peak: the material an
+    everyday object is made of, which its hardness goes with.
+
+    Parameters
+    ----------
+    head : {"logistic", "nn"}, default="logistic"
+        ``"logistic"``: balanced :class:`~sklearn_hardness.models.LaplaceLogisticRegression`
+        (``predict_proba_samples`` from its Laplace posterior), with
+        ``C=0.1`` unless given (156 features for a few hundred presses);
+        ``"nn"``: :class:`~sklearn_hardness.models.ContactProfileNNClassifier`
+        (an MLP with MC dropout). Either way the pipeline has
+        ``predict_proba_samples`` and can drive active sampling.
+    descriptors : "all" or sequence of str, default="all"
+        ``descriptors`` of :class:`~sklearn_hardness.features.ImprintTextureFeatures`.
+    moments : sequence of float in (0, 1], default=(0.5, 1.0)
+        ``moments`` of :class:`~sklearn_hardness.features.ImprintTextureFeatures`.
+    max_side : int, default=160
+        ``max_side`` of the feature transformer.
+    roi : tuple (top, bottom, left, right) or None, default=None
+        ``roi`` of the feature transformer.
+    **classifier_params
+        Passed to the head; ``class_weight`` defaults to ``"balanced"``
+        (and the logistic head's ``max_iter`` to 2000).
+
+    Returns
+    -------
+    pipeline : :class:`~sklearn_hardness.models.MCDropoutPipeline`
+        Steps ``"features"``, ``"scale"``, ``"clf"``.
+
+    See Also
+    --------
+    make_contact_geometry_pipeline : The contact's shape at the same moments.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.models import make_imprint_texture_pipeline
+    >>> pipe = make_imprint_texture_pipeline(descriptors=["lbp", "spectrum"], moments=[1.0])
+    >>> [name for name, _ in pipe.steps], pipe.named_steps["clf"].C
+    (['features', 'scale', 'clf'], 0.1)
+    """
+    if head == "logistic":
+        classifier_params = {"C": 0.1, **classifier_params}  # many features for few presses: a firm penalty
+    clf = _table_head(head, classifier_params)
+    texture = ImprintTextureFeatures(descriptors=descriptors, moments=moments, max_side=max_side, roi=roi)
+    return MCDropoutPipeline([("features", texture), ("scale", StandardScaler()), ("clf", clf)])
