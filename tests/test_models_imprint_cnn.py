@@ -4,12 +4,22 @@ import numpy as np
 import pytest
 import torch
 from sklearn.base import clone
+from sklearn.model_selection import GridSearchCV
 from sklearn.utils._param_validation import InvalidParameterError
 from sklearn.utils.class_weight import compute_class_weight
 from skorch.callbacks import Callback
 
-from sklearn_hardness.models import FrameAugmenter, ImprintCNNClassifier
+from sklearn_hardness._registry import DEFAULT_PIPELINES
+from sklearn_hardness.models import (
+    FrameAugmenter,
+    ImprintCNNClassifier,
+    make_imprint_cnn_pipeline,
+    make_named_pipeline,
+    pipeline_info,
+)
 from sklearn_hardness.models._imprint_cnn import ImprintCNN
+
+from ._synthetic import synthetic_press
 
 pytestmark = pytest.mark.torch_threads(1)
 
@@ -178,6 +188,37 @@ def test_balanced_class_weight_from_the_training_presses(data):
     expected = compute_class_weight("balanced", classes=np.array([0, 1]), y=y)
     np.testing.assert_allclose(clf.criterion_.weight.numpy(), expected, rtol=1e-6)
     assert _clf(max_epochs=0, class_weight=None).fit(X, y).criterion_.weight is None
+
+
+def test_grid_search_over_dropout_on_the_pipeline():
+    videos = [synthetic_press(n_frames=14, size=(24, 32), contact_start=4, peak=8, radius=5 + 4 * (i % 2), seed=i)
+              for i in range(8)]
+    y = np.arange(8) % 2
+    pipe = make_imprint_cnn_pipeline(k=3, frame_size=(16, 20), width=2, max_epochs=2, batch_size=16, random_state=0)
+    search = GridSearchCV(pipe, {"clf__dropout": [0.0, 0.3]}, cv=2).fit(videos, y)
+    assert search.best_params_["clf__dropout"] in (0.0, 0.3)
+    assert len(search.cv_results_["mean_test_score"]) == 2
+    best = search.best_estimator_
+    assert best.named_steps["frames"].n_between == 1
+    assert best.predict_proba_samples(videos[:2], n_samples=3, random_state=0).shape == (3, 2, 2)
+
+
+def test_named_pipeline():
+    info = pipeline_info("imprint_cnn")
+    assert info.input == "video" and info.samples and info.random
+    assert "imprint_cnn" not in DEFAULT_PIPELINES
+    pipe = make_named_pipeline("imprint_cnn", random_state=3)
+    assert [name for name, _ in pipe.steps] == ["frames", "scale", "clf"]
+    clf = pipe.named_steps["clf"]
+    assert isinstance(clf, ImprintCNNClassifier) and clf.random_state == 3
+    frames = pipe.named_steps["frames"]
+    assert (frames.n_between + 2, frames.frame_size, frames.color) == (8, (60, 80), "rgb")
+
+
+@pytest.mark.parametrize("k", [1, 0, 2.0, True])
+def test_pipeline_needs_two_frames_or_more(k):
+    with pytest.raises(ValueError, match="k must be an int of at least 2"):
+        make_imprint_cnn_pipeline(k=k)
 
 
 def test_bad_input_is_named(data, fitted):

@@ -39,6 +39,7 @@ from ._pipelines import (
     make_contact_profile_pipeline,
     make_convlstm_pipeline,
     make_dinov2nn_pipeline,
+    make_imprint_cnn_pipeline,
     make_loading_compliance_pipeline,
     make_ofnn_pipeline,
 )
@@ -53,6 +54,7 @@ __all__ = [
     "make_peak_change_baseline",
     "peak_contact_change",
     "make_convlstm_pipeline",
+    "make_imprint_cnn_pipeline",
     "make_ofnn_pipeline",
     "make_dinov2nn_pipeline",
     "make_contact_profile_pipeline",
