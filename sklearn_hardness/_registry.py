@@ -91,6 +91,9 @@ _REGISTRY = dict([
            summary="OFNN on quantiles of the corners' displacement magnitudes + an MC-dropout MLP"),
     _entry("dinov2nn", _PIPELINES, "make_dinov2nn_pipeline",
            summary="the paper's DINOv2NN: frozen DINOv2 features of the selected frames + an MC-dropout MLP"),
+    _entry("imprint_cnn", _PIPELINES, "make_imprint_cnn_pipeline",
+           summary="a small CNN trained from scratch, with augmentation, on each selected frame; "
+                   "frame probabilities averaged per press"),
     _entry("loading_compliance", _PIPELINES, "make_loading_compliance_pipeline", input="force_position",
            random=False,
            summary="each press's force and position (no video): Hertz compliance + logistic regression"),

@@ -52,6 +52,7 @@ from sklearn_hardness.models import (
     ConvLSTMClassifier,
     DINOv2NNClassifier,
     EnsembleClassifier,
+    ImprintCNNClassifier,
     LaplaceLogisticRegression,
     OFNNClassifier,
 )
@@ -103,6 +104,7 @@ ESTIMATORS = {
     ),
     "LaplaceLogisticRegression": (LaplaceLogisticRegression, "table"),
     "ConvLSTMClassifier": (lambda: ConvLSTMClassifier(filters=(2,), max_epochs=2, random_state=0), "frames"),
+    "ImprintCNNClassifier": (lambda: ImprintCNNClassifier(width=2, max_epochs=2, random_state=0), "frames"),
     "EnsembleClassifier": (lambda: EnsembleClassifier(_ofnn(), n_estimators=2, random_state=0), "table"),
     "ActiveLearner": (
         lambda: ActiveLearner(_ofnn(), initial_epochs=5, epochs_per_query=2, n_samples=4, random_state=0),
@@ -134,6 +136,10 @@ _LEARNER_INT_LABELS = (
 
 EXPECTED_FAILED_CHECKS = {
     "ConvLSTMClassifier": {
+        "check_no_attributes_set_in_init": _SKORCH_INIT,
+        "check_set_params": _NET_2D_MESSAGES["check_set_params"],
+    },
+    "ImprintCNNClassifier": {
         "check_no_attributes_set_in_init": _SKORCH_INIT,
         "check_set_params": _NET_2D_MESSAGES["check_set_params"],
     },

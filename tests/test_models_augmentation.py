@@ -57,6 +57,37 @@ def test_drift_grows_linearly_over_the_frames_and_noise_is_added():
     assert 0.3 < float((noisy - X).std()) < 0.7
 
 
+def test_shift_moves_each_press_as_a_whole_within_bounds():
+    n, k, H, W = 12, 2, 8, 16
+    X = torch.arange(n * k * H * W, dtype=torch.float32).reshape(n, k, H, W, 1)
+    out = FrameAugmenter(flip=False, gain=0.0, shift=0.25).augment(X, _gen(4))
+    offsets = set()
+    for i in range(n):
+        # pixel (H/2, W/2) came from (H/2 - dy, W/2 - dx): the source's row and column give the shift
+        src = int(out[i, 0, H // 2, W // 2, 0] - X[i, 0, 0, 0, 0])
+        dy, dx = H // 2 - src // W, W // 2 - src % W
+        assert abs(dy) <= 2 and abs(dx) <= 4  # round(0.25 * 8), round(0.25 * 16)
+        rows = (torch.arange(H) - dy).clamp(0, H - 1)
+        cols = (torch.arange(W) - dx).clamp(0, W - 1)
+        expected = X[i][:, rows][:, :, cols]  # the same shift for every frame, edges repeated
+        assert torch.equal(out[i], expected), i
+        offsets.add((dy, dx))
+    assert len(offsets) > 3
+    # the shifts are drawn last: on uniform frames (which a shift leaves as they are) turning them
+    # on leaves the other transforms' draws as they were
+    uniform = torch.full((n, k, H, W, 1), 2.0)
+    plain = FrameAugmenter(gain=0.3, noise=0.1).augment(uniform, _gen(5))
+    assert torch.equal(FrameAugmenter(gain=0.3, noise=0.1, shift=0.25).augment(uniform, _gen(5)), plain)
+
+
+def test_every_channel_at_once_is_the_same_as_listing_them():
+    X = torch.rand(4, 3, 6, 7, 3)
+    aug = dict(gain=0.3, drift=0.2, noise=0.1, shift=0.2)
+    every = FrameAugmenter(**aug).augment(X, _gen(1))  # transformed in place
+    listed = FrameAugmenter(**aug, channels=[2, 1, 0]).augment(X, _gen(1))  # gathered and scattered
+    assert torch.equal(every, listed)
+
+
 def test_same_generator_same_draws_and_dtype_kept():
     X = torch.rand(3, 2, 4, 5, 1)
     aug = FrameAugmenter(gain=0.3, drift=0.1, noise=0.1)

@@ -23,8 +23,9 @@ from sklearn_hardness.models import (
 )
 
 PACKAGE = pathlib.Path(__file__).resolve().parents[1] / "sklearn_hardness"
-NAMES = ("peak_change", "contact_profile", "contact_profile_3", "contact_geometry", "imprint_texture", "contact_profile_nn",
-         "convlstm", "convlstm_intensity", "ofnn", "ofnn_quantiles", "dinov2nn", "loading_compliance")
+NAMES = ("peak_change", "contact_profile", "contact_profile_3", "contact_geometry", "imprint_texture",
+         "contact_profile_nn", "convlstm", "convlstm_intensity", "ofnn", "ofnn_quantiles", "dinov2nn", "imprint_cnn",
+         "loading_compliance")
 
 
 def _params(estimator):

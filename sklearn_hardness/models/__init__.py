@@ -5,6 +5,8 @@
 * :class:`ContactProfileNNClassifier`: MLP head on contact-profile features of the
   loading phase (the input that carries over to new objects).
 * :class:`ConvLSTMClassifier`: ConvLSTM trained end to end on selected frames.
+* :class:`ImprintCNNClassifier`: a small CNN trained from scratch on every
+  selected frame (with augmentation), frame probabilities averaged per press.
 * :class:`FrameAugmenter`: random mirroring, gain, drift and noise of the
   ConvLSTM's training batches.
 * :class:`EnsembleClassifier`: differently seeded copies of a classifier, whose
@@ -28,6 +30,7 @@ from ._augmentation import FrameAugmenter
 from ._convergence import is_converged
 from ._convlstm import ConvLSTMClassifier
 from ._ensemble import EnsembleClassifier
+from ._imprint_cnn import ImprintCNNClassifier
 from ._laplace import LaplaceLogisticRegression
 from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
 from ._pipelines import (
@@ -37,6 +40,7 @@ from ._pipelines import (
     make_contact_profile_pipeline,
     make_convlstm_pipeline,
     make_dinov2nn_pipeline,
+    make_imprint_cnn_pipeline,
     make_loading_compliance_pipeline,
     make_ofnn_pipeline,
 )
@@ -51,6 +55,7 @@ __all__ = [
     "make_peak_change_baseline",
     "peak_contact_change",
     "make_convlstm_pipeline",
+    "make_imprint_cnn_pipeline",
     "make_ofnn_pipeline",
     "make_dinov2nn_pipeline",
     "make_contact_profile_pipeline",
@@ -63,6 +68,7 @@ __all__ = [
     "DINOv2NNClassifier",
     "ContactProfileNNClassifier",
     "ConvLSTMClassifier",
+    "ImprintCNNClassifier",
     "EnsembleClassifier",
     "StackedConvLSTMNet",
     "LaplaceLogisticRegression",

@@ -26,6 +26,9 @@ class FrameAugmenter(BaseEstimator):
     Per press, the same for all its frames unless said otherwise:
 
     - ``flip``: mirrored left-right and up-down, each with probability 1/2;
+    - ``shift``: moved by a whole number of pixels, drawn uniformly up to
+      ``round(shift * H)`` rows and ``round(shift * W)`` columns either way;
+      the border it uncovers repeats the edge pixels;
     - ``gain``: ``channels`` multiplied by ``g = exp(N(0, gain^2))``;
     - ``drift``: frame ``t`` of ``k`` multiplied by ``1 + d t / (k - 1)``,
       ``d ~ N(0, drift^2)`` (clipped so the factor stays positive);
@@ -49,6 +52,8 @@ class FrameAugmenter(BaseEstimator):
         S.d. of the relative gain change from the first to the last frame.
     noise : float, default=0.0
         S.d. of additive pixel noise.
+    shift : float in [0, 0.5), default=0.0
+        Largest shift, as a fraction of the frame's height and width.
     channels : list of int or None, default=None
         Channels that gain, drift and noise act on; None: every channel not
         in ``log_channels``.
@@ -88,15 +93,17 @@ class FrameAugmenter(BaseEstimator):
         "gain": [Interval(numbers.Real, 0, None, closed="left")],
         "drift": [Interval(numbers.Real, 0, None, closed="left")],
         "noise": [Interval(numbers.Real, 0, None, closed="left")],
+        "shift": [Interval(numbers.Real, 0, 0.5, closed="left")],
         "channels": [list, tuple, None],
         "log_channels": [list, tuple],
     }
 
-    def __init__(self, *, flip=True, gain=0.2, drift=0.0, noise=0.0, channels=None, log_channels=()):
+    def __init__(self, *, flip=True, gain=0.2, drift=0.0, noise=0.0, shift=0.0, channels=None, log_channels=()):
         self.flip = flip
         self.gain = gain
         self.drift = drift
         self.noise = noise
+        self.shift = shift
         self.channels = channels
         self.log_channels = log_channels
 
@@ -128,6 +135,19 @@ class FrameAugmenter(BaseEstimator):
         if both:
             raise ValueError(f"channels {both} are listed in both channels and log_channels.")
         return channels, log_channels
+
+    def _shifted(self, X, generator):
+        """``X`` (n, k, H, W, C) with each press moved by its own random offset (edges repeated)."""
+        n, _, H, W, _ = X.shape
+        dy_max, dx_max = round(self.shift * H), round(self.shift * W)
+        dy = torch.randint(-dy_max, dy_max + 1, (n,), generator=generator)
+        dx = torch.randint(-dx_max, dx_max + 1, (n,), generator=generator)
+        # clamped source indices: the pixel shifted to (r, c) and, past the border, the edge pixel
+        rows = (torch.arange(H)[None, :] - dy[:, None]).clamp_(0, H - 1).to(X.device)
+        cols = (torch.arange(W)[None, :] - dx[:, None]).clamp_(0, W - 1).to(X.device)
+        press = torch.arange(n, device=X.device)[:, None, None]
+        # advanced indices around a slice come first: (n, H, W) + (k, C)
+        return X[press, :, rows[:, :, None], cols[:, None, :]].permute(0, 3, 1, 2, 4).contiguous()
 
     @staticmethod
     def _indices(values, name, n_channels):
@@ -163,7 +183,7 @@ class FrameAugmenter(BaseEstimator):
         channels, log_channels = self.check(C)
         dev, dtype = X.device, X.dtype
         # flips, gains and drifts are drawn whatever the settings, so turning one on leaves the others'
-        # draws as they were; the noise, drawn last, only when it is used
+        # draws as they were; the noise and then the shifts, drawn last, only when they are used
         flips = torch.rand(n, 2, generator=generator) < 0.5
         log_gain = torch.randn(n, generator=generator, dtype=torch.float64) * float(self.gain)
         slope = torch.randn(n, generator=generator, dtype=torch.float64) * float(self.drift)
@@ -174,9 +194,16 @@ class FrameAugmenter(BaseEstimator):
                 rows = flips[:, axis].to(dev)
                 if rows.any():
                     out[rows] = out[rows].flip(dim)
+        if self.shift > 0:
+            out = self._shifted(out, generator)
         t = torch.arange(k, dtype=torch.float64) / max(k - 1, 1)
         factor = torch.exp(log_gain)[:, None] * (1.0 + slope[:, None] * t[None, :]).clamp_min(0.05)  # (n, k)
-        if channels:
+        if channels == list(range(C)):  # every channel: in place, without gathering and scattering them
+            if self.gain > 0 or self.drift > 0:
+                out.mul_(factor.to(device=dev, dtype=dtype)[:, :, None, None, None])
+            if noise is not None:
+                out.add_(float(self.noise) * noise.to(dev, dtype))
+        elif channels:
             f = factor.to(device=dev, dtype=dtype)[:, :, None, None]
             out[..., channels] = out[..., channels] * f[..., None]
             if noise is not None:

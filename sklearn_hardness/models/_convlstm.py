@@ -4,14 +4,10 @@ from __future__ import annotations
 
 import numbers
 
-import numpy as np
 import torch
-from skorch.dataset import unpack_data
 from sklearn.utils._param_validation import HasMethods, Interval, StrOptions
 
-from ..utils._random import derived_seeds
-from ..utils._tags import frames_tags
-from ..utils._validation import check_frames_array
+from ._frames_net import FramesNetMixin, register_input_buffers
 from ._mc_dropout import MCDropoutClassifierBase
 from ._mc_sampling import MCDropout
 
@@ -143,12 +139,7 @@ class ConvLSTMNet(torch.nn.Module):
         per_channel = dropout_placement == "channels"
         self.dropouts = torch.nn.ModuleList(MCDropout(dropout, per_channel=per_channel) for _ in range(n_drop))
         self.head = torch.nn.Linear(filters[-1], int(n_classes))
-        shape = torch.tensor(input_shape if input_shape is not None else [-1, -1, -1, in_channels])
-        self.register_buffer("input_shape", shape.to(torch.int64))
-        mean = torch.zeros(int(in_channels)) if input_mean is None else torch.as_tensor(input_mean)
-        scale = torch.ones(int(in_channels)) if input_scale is None else torch.as_tensor(input_scale)
-        self.register_buffer("input_mean", mean.to(torch.float32).reshape(-1))
-        self.register_buffer("input_scale", scale.to(torch.float32).reshape(-1))
+        register_input_buffers(self, in_channels, input_shape, input_mean, input_scale)
 
     def _replicate(self, x, n_replicas):
         return x.repeat((n_replicas,) + (1,) * (x.dim() - 1)) if n_replicas > 1 else x
@@ -177,7 +168,7 @@ class ConvLSTMNet(torch.nn.Module):
         return self.head(seq.mean(dim=(-2, -1)))
 
 
-class ConvLSTMClassifier(MCDropoutClassifierBase):
+class ConvLSTMClassifier(FramesNetMixin, MCDropoutClassifierBase):
     """ConvLSTM classifier on selected frames with MC dropout (the paper's ConvLSTM).
 
     Four ConvLSTM layers with 4, 8, 14 and 16 filters (3x3), global average
@@ -315,7 +306,6 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         "standardize": ["boolean"],
         "augment": [HasMethods(["augment"]), None],
     }
-    _input_meta_attrs = ("n_frames_in_", "frame_shape_", "input_mean_", "input_scale_")
 
     def __init__(
         self,
@@ -362,87 +352,6 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         self.augment = augment
         self.standardize = standardize
 
-    _generator_attrs = MCDropoutClassifierBase._generator_attrs + ("augment_generator_",)
-
-    def set_params(self, **kwargs):
-        """Set parameters; ``augment__<name>`` sets a parameter of the augmenter.
-
-        skorch keeps every other ``<prefix>__<name>`` key for its own parts
-        (``module__``, ``optimizer__``...), so nested augmenter parameters are
-        routed here, as scikit-learn does for nested estimators
-        (``GridSearchCV(pipe, {"clf__augment__gain": [...]})``).
-
-        Returns
-        -------
-        self
-        """
-        nested = {k[len("augment__"):]: kwargs.pop(k) for k in list(kwargs) if k.startswith("augment__")}
-        super().set_params(**kwargs)
-        if nested:
-            if not hasattr(self.augment, "set_params"):
-                raise ValueError(
-                    f"augment__{next(iter(nested))} was given but augment is {self.augment!r}; "
-                    "set augment=FrameAugmenter(...) first."
-                )
-            self.augment.set_params(**nested)
-        return self
-
-    def initialize(self):
-        """Validate the parameters, seed the generators (augmentations too) and initialise the net.
-
-        Returns
-        -------
-        self
-        """
-        super().initialize()
-        seed = self.init_seed_
-        # derived from the initial-weight seed, so the other generators' seeds are unchanged
-        self.augment_generator_ = (
-            None if seed is None else torch.Generator().manual_seed(derived_seeds([seed, 1], 1)[0])
-        )
-        return self
-
-    def _prepare_training(self, X, y):
-        super()._prepare_training(X, y)
-        if self.augment is not None and hasattr(self.augment, "check"):
-            self.augment.check(self.frame_shape_[-1])
-
-    def train_step_single(self, batch, **fit_params):
-        """skorch's step on a batch transformed by ``augment`` (when set)."""
-        if self.augment is not None:
-            Xi, yi = unpack_data(batch)
-            Xi = self.augment.augment(torch.as_tensor(Xi), generator=self.augment_generator_)
-            batch = (Xi, yi)
-        return super().train_step_single(batch, **fit_params)
-
-    def _check_X(self, X, reset):
-        if reset:
-            X = check_frames_array(X)
-            self.n_frames_in_ = int(X.shape[1])
-            self.frame_shape_ = tuple(int(s) for s in X.shape[2:])
-            return X
-        if self.n_frames_in_ is None:  # loaded from parameters without the shape
-            X = check_frames_array(X)
-            if X.shape[-1] != self.frame_shape_[-1]:
-                raise ValueError(
-                    f"X has {X.shape[-1]} channel(s) but the net was trained on "
-                    f"{self.frame_shape_[-1]}."
-                )
-            return X
-        return check_frames_array(X, n_frames=self.n_frames_in_, frame_shape=self.frame_shape_)
-
-    def _fit_input_stats(self, X):
-        C = X.shape[-1]
-        if self.standardize:
-            flat = X.reshape(-1, C)
-            mean = flat.mean(axis=0, dtype=np.float64)
-            std = flat.std(axis=0, dtype=np.float64)
-            self.input_mean_ = mean.astype(np.float32)
-            self.input_scale_ = np.where(std > 0, std, 1.0).astype(np.float32)
-        else:
-            self.input_mean_ = np.zeros(C, np.float32)
-            self.input_scale_ = np.ones(C, np.float32)
-
     def _placeholder_meta(self):
         return {"in_channels": 1, "n_classes": 2, "filters": (1,), "kernel_size": 1, "dropout": self.dropout,
                 "dropout_placement": self.dropout_placement}
@@ -453,7 +362,6 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
             isinstance(f, bool) or not isinstance(f, numbers.Integral) or f < 1 for f in filters
         ):
             raise ValueError(f"filters must be a non-empty tuple of positive ints, got {self.filters!r}.")
-        shape = (self.n_frames_in_ or -1,) + tuple(s if s is not None else -1 for s in self.frame_shape_)
         return {
             "in_channels": self.frame_shape_[-1],
             "n_classes": len(self.classes_),
@@ -461,19 +369,8 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
             "kernel_size": int(self.kernel_size),
             "dropout": self.dropout,
             "dropout_placement": self.dropout_placement,
-            "input_shape": shape,
-            "input_mean": self.input_mean_,
-            "input_scale": self.input_scale_,
+            **self._input_buffers(),
         }
-
-    def _meta_from_state_dict(self, state_dict):
-        shape = [int(s) for s in state_dict["input_shape"].tolist()]
-        self.n_frames_in_ = shape[0] if shape[0] > 0 else None
-        self.frame_shape_ = tuple(shape[1:]) if shape[1] > 0 else (None, None, shape[3])
-        C = shape[3]
-        self.input_mean_ = state_dict.get("input_mean", torch.zeros(C)).numpy().astype(np.float32)
-        self.input_scale_ = state_dict.get("input_scale", torch.ones(C)).numpy().astype(np.float32)
-        return int(state_dict["head.weight"].shape[0])
 
     def _mc_bytes_per_row(self, X):
         k, H, W, C = X.shape[1:]
@@ -484,5 +381,3 @@ class ConvLSTMClassifier(MCDropoutClassifierBase):
         per_step = max(chans[i] + 5 * chans[i + 1] for i in range(len(chans) - 1))
         return 4 * k * H * W * per_step
 
-    def __sklearn_tags__(self):
-        return frames_tags(super().__sklearn_tags__())

@@ -26,6 +26,7 @@ from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
 from ._augmentation import FrameAugmenter
 from ._convlstm import ConvLSTMClassifier
+from ._imprint_cnn import ImprintCNNClassifier
 from ._intensity_channels import INTENSITY_STATS, IntensityChannels
 from ._laplace import LaplaceLogisticRegression
 from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
@@ -34,6 +35,7 @@ __all__ = [
     "FrameScaler",
     "MCDropoutPipeline",
     "make_convlstm_pipeline",
+    "make_imprint_cnn_pipeline",
     "make_ofnn_pipeline",
     "make_dinov2nn_pipeline",
     "make_contact_profile_pipeline",
@@ -229,6 +231,55 @@ def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", in
         steps.append(("intensity", IntensityChannels()))
     steps.append(("clf", ConvLSTMClassifier(**classifier_params)))
     return MCDropoutPipeline(steps)
+
+
+def make_imprint_cnn_pipeline(*, k=8, frame_size=(60, 80), color="rgb", roi=None, random_state=None,
+                              **classifier_params):
+    """Videos -> ``k`` contact frames -> ``FrameScaler`` -> :class:`~sklearn_hardness.models.ImprintCNNClassifier`.
+
+    A small CNN, trained from scratch with strong augmentation, reads every
+    selected frame of a press as one example (the imprint's appearance:
+    texture and shape, which tell the material); a press's probabilities are
+    the mean of its frames'.
+
+    Parameters
+    ----------
+    k : int, default=8
+        Frames kept per press (at least 2): contact start, peak change and
+        ``k - 2`` frames at equal spacing between (``n_between=k - 2`` of
+        the :class:`~sklearn_hardness.preprocessing.ContactFrameSelector`),
+        each a difference to the video's first frame.
+    frame_size : (int, int), default=(60, 80)
+        (height, width) of the selected frames: a quarter of GelSight Mini's
+        240x320 stream in each direction.
+    color : {"rgb", "gray"}, default="rgb"
+    roi : tuple (top, bottom, left, right) or None, default=None
+        ``roi`` of the frame selector (step ``"frames"``), as in
+        :func:`make_convlstm_pipeline`.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the net (weights, shuffling, dropout masks, augmentations).
+    **classifier_params
+        Passed to :class:`ImprintCNNClassifier` (``dropout``, ``width``,
+        ``augment``, ``max_epochs``, ``device``...).
+
+    Returns
+    -------
+    pipeline : MCDropoutPipeline
+        Steps ``"frames"``, ``"scale"``, ``"clf"``, with
+        ``predict_proba_samples``; ``GridSearchCV`` searches ``clf__dropout``.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.models import make_imprint_cnn_pipeline
+    >>> pipe = make_imprint_cnn_pipeline(k=4, random_state=0)
+    >>> [name for name, _ in pipe.steps], pipe.named_steps["frames"].n_between
+    (['frames', 'scale', 'clf'], 2)
+    """
+    if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 2:
+        raise ValueError(f"k must be an int of at least 2 (contact start and peak), got {k!r}.")
+    clf = ImprintCNNClassifier(random_state=random_state, **classifier_params)
+    return MCDropoutPipeline([("frames", _selector(int(k) - 2, frame_size, color, roi)), ("scale", FrameScaler()),
+                              ("clf", clf)])
 
 
 def make_ofnn_pipeline(*, n_between=2, frame_size=(120, 160), n_features=500, flow_output="magnitude_quantiles",

@@ -218,6 +218,11 @@ def check_frames_array(X, *, name="X", n_frames=None, frame_shape=None, dtype=np
         )
     if arr.shape[0] == 0:
         raise ValueError(f"{name} contains no samples (shape {arr.shape}).")
+    if 0 in arr.shape[1:]:
+        raise ValueError(
+            f"{name} has empty samples (shape {arr.shape}): each needs at least one frame of at least "
+            "one pixel and channel."
+        )
     if n_frames is not None and arr.shape[1] != n_frames:
         raise ValueError(
             f"{name} has {arr.shape[1]} frames per sample but {n_frames} were seen during fit."
