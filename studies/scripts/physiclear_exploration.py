@@ -18,7 +18,8 @@ The descriptors (texture of the change at the half-rise and peak frames: local
 binary patterns, co-occurrence, Gabor energies, radial spectrum, colour; the
 imprint's own LBP; timing) are computed here by the exploration's own code, the
 one that was run; the library's :class:`~sklearn_hardness.features.ImprintTextureFeatures`
-was built from it afterwards. The CNN (``--cnn``) is a small one trained from
+was built from it afterwards. The contact geometry is also read at twice the resolution (160 px on the long side,
+``sigma=2``). The CNN (``--cnn``) is a small one trained from
 scratch on every frame of the loading phase (60x80, 8 epochs, flips, gain,
 shifts and noise), probabilities pooled per press.
 """
@@ -171,10 +172,12 @@ def _features(data, n_jobs):
     names = list(out[0][0])
     X = np.array([[row[n] for n in names] for row, _ in out])
     geometry = ContactGeometryFeatures(n_jobs=n_jobs).fit(data.videos[:1])
+    fine = ContactGeometryFeatures(max_side=160, sigma=2.0, n_jobs=n_jobs).fit(data.videos[:1])
     profile = ContactProfileFeatures(n_jobs=n_jobs).fit(data.videos[:1])
     names += ["geom_" + n for n in geometry.get_feature_names_out()]
+    names += ["geom160_" + n for n in fine.get_feature_names_out()]
     names += ["prof_" + n for n in profile.get_feature_names_out()]
-    X = np.hstack([X, geometry.transform(data.videos), profile.transform(data.videos)])
+    X = np.hstack([X, geometry.transform(data.videos), fine.transform(data.videos), profile.transform(data.videos)])
     return X, np.array(names), [frames for _, frames in out]
 
 
@@ -285,6 +288,8 @@ def _variants(names):
             out.append((f"{label}, ordinal C={C}", _logistic(names, pattern, C,
                                                              head=OrdinalLogisticRegression(C=C))))
     out.append(("geometry scale-free, unweighted", _logistic(names, GEOMETRY_SF, 1.0, None)))
+    out.append(("geometry scale-free at 160 px (sigma 2), multinomial C=1.0",
+                _logistic(names, GEOMETRY_SF.replace("^geom_", "^geom160_"), 1.0)))
     return out
 
 
