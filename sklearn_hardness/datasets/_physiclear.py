@@ -187,8 +187,9 @@ def load_physiclear(path, *, objects=None, cache_size=0):
     -------
     data : :class:`~sklearn.utils.Bunch`
         ``videos``
-            :class:`LazyVideoSequence` of ``(T, H, W, 3)`` ``uint8`` arrays,
-            in the order of their file names.
+            Lazy sequence (``len``, integer and array indexing) of
+            ``(T, H, W, 3)`` ``uint8`` arrays, in the order of their file
+            names; a video is decoded when it is indexed.
         ``target``
             ndarray of int per video: the hardness rank, 0 soft, 1 moderate,
             2 hard.
