@@ -58,6 +58,9 @@ BENCHMARKS = {
     "time_error": [
         ("paper vs 12x16 frames", None, ["--configs", "paper", "frames 12x16"], None),
     ],
+    "fit_predict": [
+        ("contact_geometry, 240x320 presses", ["--n-presses", "40", "--n-predict", "3"], [], None),
+    ],
     "device": [
         ("GPU beside CPU", ["--n-per-class", "4", "--epochs", "2"], [], "cuda"),
     ],
