@@ -224,3 +224,44 @@ def test_object_runs_resume_without_recomputing(tmp_path, monkeypatch):
     again = run_active_sampling(data, **kwargs)
     assert [r["key"] for r in again.records] == [r["key"] for r in first.records]
     assert all(r["key"]["test_object"] == "class1-obj0" for r in again.records)
+
+
+def _with_families(data):
+    """Objects of ``_with_objects`` paired into families: objN and objN+1 (N even) are parts of one whole."""
+    obj = np.asarray(data.object_id)
+    family = np.array([o.rsplit("obj", 1)[0] + f"fam{int(o.rsplit('obj', 1)[1]) // 2}" for o in obj])
+    return Bunch(**data, family=family)
+
+
+def test_family_siblings_of_the_test_object_are_never_trained_on_pooled_or_held_out():
+    data = _with_families(_with_objects(tiny_presses(12)))
+    groups, family = data.object_id, data.family
+    tests = ["class0-obj1", "class3-obj2"]
+    res = run_active_sampling(data, model="ofnn", strategies=("variance", "random"), test_objects=tests,
+                              seeds=[0, 1], n_jobs=1, verbose=0, **dict(TINY, n_holdout=2, n_iterations=3))
+    assert res.config["protocol"] == "family-disjoint"
+    for r in res.records:
+        siblings = np.flatnonzero(family == family[groups == r["test_object"]][0])
+        used = np.concatenate([r["initial_indices"]] + [np.asarray(d) for d in r["drawn_indices"]]
+                              + [np.asarray(r["holdout_indices"])])
+        assert siblings.size == 4 and not np.intersect1d(siblings, used).size
+    # the effect: without families, a sibling of the test object is in the pool the runs draw from
+    y = np.asarray(data.target)
+    cfg = dict(n_test=2, n_holdout=2, n_initial=2)
+    for obj in tests:
+        sibling = (family == family[groups == obj][0]) & (groups != obj)
+        _, hold, pool = _split_objects(y, groups, cfg, 5, obj, 0)
+        assert np.isin(np.flatnonzero(sibling), np.concatenate([pool, hold])).any()
+        _, hold, pool = _split_objects(y, groups, cfg, 5, obj, 0, family)
+        assert not np.isin(np.flatnonzero(sibling), np.concatenate([pool, hold])).any()
+
+
+def test_families_of_one_object_each_keep_the_object_disjoint_protocol_and_hash():
+    data = _with_objects(tiny_presses(10))
+    same = Bunch(**data, family=data.object_id)
+    cfg = check_config(get_config("silicone5", **TINY))
+    inputs = Bunch(object_id=np.asarray(data.object_id), family=np.asarray(same.family))
+    assert _active._family(inputs) is None
+    y = np.asarray(data.target)
+    assert _active._results_hash(cfg, "d", inputs.object_id, y) == _active._results_hash(cfg, "d", inputs.object_id,
+                                                                                          y, None)

@@ -92,7 +92,7 @@ def _object_pairs(inputs, cfg, test_classes, test_objects, seeds):
         if n_objects[tc] < 2:
             raise ValueError(f"object {obj!r} is the only object of class {tc}; it cannot be the test object.")
         for seed in seeds:
-            _split_objects(y, groups, cfg, inputs.n_classes, obj, _seeds(seed, tc, 1, obj)[0])
+            _split_objects(y, groups, cfg, inputs.n_classes, obj, _seeds(seed, tc, 1, obj)[0], _family(inputs))
             pairs.append((tc, obj, seed))
     return pairs
 
@@ -104,15 +104,27 @@ def _dataset_name(dataset):
     return "a Bunch"
 
 
-def _results_hash(cfg, data_id, object_id, y):
+def _family(inputs):
+    """The family of each press as str where it groups some objects together, else None."""
+    family = inputs.get("family")
+    if family is None or inputs.object_id is None:
+        return None
+    family = np.asarray(family).astype(str)
+    return None if np.unique(family).size == np.unique(inputs.object_id).size else family
+
+
+def _results_hash(cfg, data_id, object_id, y, family=None):
     """The config hash that keys a run's records: object-disjoint runs also hash the protocol and objects.
 
     Class-level results (no object ids, or one object per class) keep the hash they had
-    before the object-disjoint protocol existed.
+    before the object-disjoint protocol existed; object-disjoint runs without families
+    keep theirs.
     """
     if _has_objects(object_id, y):
-        return config_hash(dict(cfg, data=data_id, n_runs=None, protocol="object-disjoint",
-                                objects=joblib.hash(object_id.astype(str).tolist())))
+        extra = {} if family is None else {"families": joblib.hash(family.tolist())}
+        protocol = "object-disjoint" if family is None else "family-disjoint"
+        return config_hash(dict(cfg, data=data_id, n_runs=None, protocol=protocol,
+                                objects=joblib.hash(object_id.astype(str).tolist()), **extra))
     return config_hash(dict(cfg, data=data_id, n_runs=None))  # n_runs picks seeds only
 
 
@@ -172,7 +184,13 @@ def run_active_sampling(
     random order, are held out whole until they hold ``n_holdout`` presses,
     and ``n_holdout`` of those presses are scored. Runs iterate over
     test objects (every object of a class with at least two objects, or
-    ``test_objects``) and seeds; a pair is (test object, seed). A class
+    ``test_objects``) and seeds; a pair is (test object, seed). **Families**:
+    where the dataset also gives each press's ``family`` (the whole object a
+    part belongs to: ``load_physiclear``'s ``family``, or a manifest's
+    ``family`` column) and some family holds several objects, the runs are
+    family-disjoint: no press of the test object's family (its sibling parts,
+    pressed in one sitting, of the same maker's materials) is in the pool or
+    held out either (``protocol="family-disjoint"`` in the result's config). A class
     without enough objects or presses for this is a ``ValueError`` before any
     run. Without object ids, or with one object per class (``silicone5``,
     ``shore9``), the test object is the class, as above, and splits, records
@@ -289,7 +307,8 @@ def run_active_sampling(
             test_classes, "test_classes", set(range(n_classes)))
         _check_class_counts(inputs, cfg, test_classes)
         pairs = [(tc, None, seed) for tc in test_classes for seed in seeds]
-    chash = _results_hash(cfg, inputs.data_id, inputs.object_id, inputs.y)
+    family = _family(inputs) if by_object else None
+    chash = _results_hash(cfg, inputs.data_id, inputs.object_id, inputs.y, family)
     tasks, groups = [], []
     for tc, obj, seed in pairs:
         keys = []
@@ -306,6 +325,8 @@ def run_active_sampling(
               "target_names": [str(n) for n in inputs.target_names]}
     if by_object:
         common["groups"] = inputs.object_id.astype(str)
+    if family is not None:
+        common["family"] = family
     store = ResultsStore(results_path)
     run_tasks(_active_pair, groups, common, store, n_jobs=n_jobs, verbose=verbose, desc="active sampling",
               group_field="strategies")
@@ -320,5 +341,6 @@ def run_active_sampling(
     cfg = dict(cfg, target_names=[str(n) for n in inputs.target_names],
                hardness=None if inputs.hardness is None else inputs.hardness.tolist(),
                hardness_unit=inputs.hardness_unit, strategies=names, config_hash=chash,
-               dataset=_dataset_name(dataset), protocol="object-disjoint" if by_object else "class")
+               dataset=_dataset_name(dataset),
+               protocol="class" if not by_object else "object-disjoint" if family is None else "family-disjoint")
     return ExperimentResult(records, config=cfg, path=None if results_path is None else str(results_path))

@@ -261,6 +261,13 @@ def _meta(data_or_none, dataset, cfg, y):
     return np.asarray(names), hardness, unit
 
 
+def _family_column(data):
+    """The family of each press: a ``family`` field (``load_physiclear``) or manifest column, or None."""
+    if data.get("family") is not None:
+        return data.get("family")
+    return (data.get("metadata") or {}).get("family")
+
+
 def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, n_jobs=None):
     """Selected frames (ConvLSTM, custom estimators) or frozen features for all presses.
 
@@ -285,7 +292,8 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, n_jobs=None):
     inputs : Bunch
         ``X`` (one row per press), ``y`` (class index), ``target_names``,
         ``hardness`` (per class, or None), ``hardness_unit``, ``n_classes``,
-        ``object_id`` (the physical object of each press, or None).
+        ``object_id`` (the physical object of each press, or None),
+        ``family`` (the whole object it is a part of, where the dataset says, or None).
     """
     if isinstance(model, str) and model not in MODEL_NAMES:
         raise ValueError(f"unknown model {model!r}; choose one of {list(MODEL_NAMES)} or pass an estimator.")
@@ -314,7 +322,8 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, n_jobs=None):
             else:
                 X, y = _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs)
             data = load_dataset(dataset, cfg)  # lazy videos: metadata only
-            data = {k: data.get(k) for k in ("target_names", "hardness", "hardness_unit", "object_id")}
+            data = dict({k: data.get(k) for k in ("target_names", "hardness", "hardness_unit", "object_id")},
+                        family=_family_column(data))
             _MEMO[memo_key] = (X, y, data)
             while len(_MEMO) > _MEMO_MAX:
                 _MEMO.pop(next(iter(_MEMO)))
@@ -338,6 +347,9 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, n_jobs=None):
     object_id = None if data is None or data.get("object_id") is None else np.asarray(data.get("object_id"))
     if object_id is not None and object_id.shape != y.shape:
         raise ValueError(f"the dataset has {object_id.shape[0]} object ids for {y.shape[0]} presses.")
+    family = None if object_id is None or _family_column(data) is None else np.asarray(_family_column(data))
+    if family is not None and family.shape != y.shape:
+        raise ValueError(f"the dataset has {family.shape[0]} families for {y.shape[0]} presses.")
     return Bunch(X=X, y=y, target_names=names, hardness=hardness, hardness_unit=unit,
                  n_classes=n_classes, model=model if isinstance(model, str) else "custom",
-                 data_id=data_id, object_id=object_id)
+                 data_id=data_id, object_id=object_id, family=family)

@@ -72,11 +72,14 @@ def _split(y, cfg, n_classes, test_class, split_seed):
     return test_idx, holdout_idx, pool
 
 
-def _split_objects(y, groups, cfg, n_classes, test_object, split_seed):
+def _split_objects(y, groups, cfg, n_classes, test_object, split_seed, family=None):
     """The object-disjoint split: test presses of one object, held-out presses of unseen objects.
 
     The test presses are ``n_test`` presses of ``test_object`` (all of them if
-    it has fewer); none of its other presses is used. For ``n_holdout``, the
+    it has fewer); none of its other presses is used. With ``family`` (the
+    whole object each press's object is a part of), no press of the test
+    object's family is used either: the handle is not a reference object when
+    the bristles of the same brush are the test object. For ``n_holdout``, the
     other objects of every class are taken whole, in a seeded random order,
     until they hold at least ``n_holdout`` presses, and ``n_holdout`` of
     those presses are scored; the rest of those objects' presses is unused.
@@ -89,7 +92,7 @@ def _split_objects(y, groups, cfg, n_classes, test_object, split_seed):
     test_idx = np.sort(rng.choice(own, min(cfg["n_test"], own.size), replace=False))
     n_hold = cfg.get("n_holdout", 0)
     hold, hold_objects = [], []
-    used = groups == test_object
+    used = groups == test_object if family is None else family == family[own[0]]
     for c in range(n_classes):
         objs = np.unique(groups[(y == c) & ~used])
         if n_hold:
@@ -119,7 +122,8 @@ def _split_objects(y, groups, cfg, n_classes, test_object, split_seed):
     return test_idx, holdout_idx, pool
 
 
-def _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy, groups=None, test_object=None):
+def _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy, groups=None, test_object=None,
+                   family=None):
     """What the paired runs of one (test object, seed) share: split, oracle, initial training."""
 
     split_seed, oracle_seed, learner_seed, model_seed, mc_seed = _seeds(seed, test_class, 5, test_object)
@@ -127,7 +131,7 @@ def _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy, grou
         test_idx, holdout_idx, pool = _split(y, cfg, n_classes, test_class, split_seed)
         oracle = PressOracle(pool, y[pool], random_state=oracle_seed)
     else:
-        test_idx, holdout_idx, pool = _split_objects(y, groups, cfg, n_classes, test_object, split_seed)
+        test_idx, holdout_idx, pool = _split_objects(y, groups, cfg, n_classes, test_object, split_seed, family)
         # a robot can press a reference object again: a replay reuses its recorded presses once
         # every reference object of the class is pressed out (n_repeated_presses in the record)
         oracle = PressOracle(pool, y[pool], groups=groups[pool], random_state=oracle_seed,
@@ -227,22 +231,23 @@ def _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, stat
 
 
 def _active_run(X, y, hardness, cfg, model, n_classes, target_names, strategy, test_class, seed, key,
-                groups=None, test_object=None):
+                groups=None, test_object=None, family=None):
     """One run: (strategy, test object, seed), trained from scratch. Returns the record (without provenance)."""
-    state = _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy, groups, test_object)
+    state = _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategy, groups, test_object, family)
     return _continue_run(X, y, hardness, cfg, n_classes, target_names, test_class, state, strategy,
                          test_object)
 
 
 def _active_pair(X, y, hardness, cfg, model, n_classes, target_names, strategies, test_class, seed, keys,
-                 groups=None, test_object=None):
+                 groups=None, test_object=None, family=None):
     """The paired runs of one (test object, seed): the initial model is trained once and copied.
 
     Each strategy continues from a deep copy of the trained learner and of
     the oracle (weights, optimizer state, random generators), so its record
     equals that of :func:`_active_run` with the same arguments.
     """
-    state = _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategies[0], groups, test_object)
+    state = _initial_state(X, y, cfg, model, n_classes, test_class, seed, strategies[0], groups, test_object,
+                           family)
     records = []
     for i, strategy in enumerate(strategies):
         run_state = state if i == len(strategies) - 1 else copy.deepcopy(state)
