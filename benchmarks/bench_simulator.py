@@ -140,7 +140,9 @@ def _everyday(args):
         print(f"  {name:<9} peak change median {q[1]:.2f} [10-90%: {q[0]:.2f}-{q[2]:.2f}]  real {real[name]}")
     data.videos = videos  # rendered once, shared by every fold
     t0 = time.perf_counter()
-    result = evaluate_pipelines(data, ["contact_profile"], cv=5, n_jobs=args.n_jobs)
+    result = evaluate_pipelines(["contact_profile"], data.videos, data.target, groups=data.object_id, cv=5,
+                                target_names=data.target_names, hardness=data.hardness, n_jobs=args.n_jobs,
+                                random_state=0)
     print(format_evaluation(result))
     print(f"evaluation {time.perf_counter() - t0:.1f} s")
 

@@ -21,7 +21,7 @@ This example evaluates the recommended pipeline,
 one number on the built-in ``everyday`` simulator, then shows what a
 region of interest does for a sensor whose frame shows more than the gel
 (a GelSight Wedge grasp shows its housing and the other finger). The nets
-are left out to keep it quick: ``evaluate_pipelines(data)`` with no
+are left out to keep it quick: ``evaluate_pipelines(None, data.videos, ...)`` with no
 pipeline list runs them too. Frames are kept small (96x128).
 """
 
@@ -33,12 +33,14 @@ import numpy as np
 from sklearn.utils import Bunch
 
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation, plot_confusion_matrices
+from sklearn_hardness.model_selection import ConfusionMatricesDisplay, evaluate_pipelines, format_evaluation
+from sklearn_hardness.models import make_named_pipeline
 
 data = make_presses("everyday", image_size=(96, 128), random_state=0)
 data.videos = list(data.videos)  # the simulator renders a video each time it is read: render each once
 print(len(data.target), "presses of", len(set(data.object_id)), "objects")
-result = evaluate_pipelines(data, ["contact_profile"], cv=5, n_jobs=2, verbose=0)
+result = evaluate_pipelines(["contact_profile"], data.videos, data.target, groups=data.object_id, cv=5,
+                            target_names=data.target_names, hardness=data.hardness, n_jobs=2, random_state=0)
 print(format_evaluation(result))
 
 # %%
@@ -51,7 +53,7 @@ print(format_evaluation(result))
 # presses (an object's class: the mean of its presses' probabilities), and
 # each pipeline's recall per class says which ranks it misses; the confusion
 # matrices show where those presses went.
-fig = plot_confusion_matrices(result)
+fig = ConfusionMatricesDisplay.from_result(result).figure_
 plt.show()
 
 # %%
@@ -82,8 +84,17 @@ def framed(video):
 wide = Bunch(videos=[framed(v) for v in data.videos], target=data.target, target_names=data.target_names,
              object_id=data.object_id, hardness=data.hardness)
 gel = (32 / 160, 128 / 160, 32 / 192, 160 / 192)
-whole = evaluate_pipelines(wide, ["contact_profile"], cv=5, n_jobs=2, verbose=0)
-on_gel = evaluate_pipelines(wide, ["contact_profile"], cv=5, roi=gel, n_jobs=2, verbose=0)
+
+
+def evaluate(roi):
+    """The contact profile and the one number, both reading ``roi`` of the frames."""
+    return evaluate_pipelines({"contact_profile": make_named_pipeline("contact_profile", roi=roi)}, wide.videos,
+                              wide.target, groups=wide.object_id, cv=5,
+                              baseline=("peak_change", make_named_pipeline("peak_change", roi=roi)),
+                              target_names=wide.target_names, n_jobs=2, random_state=0)
+
+
+whole, on_gel = evaluate(None), evaluate(gel)
 for name, res in [("whole frame", whole), ("roi on the gel", on_gel)]:
     print(name, {row["pipeline"]: round(row["balanced_accuracy"], 2) for row in res.table})
 

@@ -174,7 +174,7 @@ def builder(name):
     return getattr(importlib.import_module(entry.module), entry.function), dict(entry.fixed)
 
 
-def make_named_pipeline(name, *, random_state=None, **params):
+def make_named_pipeline(name, *, random_state=None, memory=None, **params):
     """A fresh, unfitted pipeline known by name.
 
     Parameters
@@ -185,6 +185,16 @@ def make_named_pipeline(name, *, random_state=None, **params):
         Seeds the nets' initial weights, shuffling and dropout. Ignored by the
         pipelines with nothing random to seed (``pipeline_info(name).random``
         is False).
+    memory : str, joblib.Memory or None, default=None
+        The :class:`~sklearn.pipeline.Pipeline`'s ``memory``: caches each
+        fitted transformer step, so that fitting the same steps on the same
+        presses again (a grid search over the classifier's parameters, a
+        second run) reads them from the cache instead of reading the videos
+        and extracting the features again. A video sequence hashes by its
+        keys (the files), not its frames. Across the folds of one
+        cross-validation the training presses differ, so each fold computes
+        its own; :func:`~sklearn_hardness.model_selection.evaluate_pipelines`
+        computes the per-press steps once for all folds instead.
     **params
         Passed to the pipeline's builder (its ``make_*_pipeline`` factory),
         e.g. ``roi=`` for the video pipelines, ``max_epochs=`` for a net. The
@@ -218,4 +228,5 @@ def make_named_pipeline(name, *, random_state=None, **params):
                         f"({others}), or call {function.__name__} yourself.")
     if random_state is not None and _REGISTRY[name].info.random:
         params["random_state"] = random_state
-    return function(**fixed, **params)
+    pipe = function(**fixed, **params)
+    return pipe if memory is None else pipe.set_params(memory=memory)

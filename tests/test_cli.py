@@ -177,7 +177,7 @@ def test_names_offered_by_the_parser_are_the_library_s():
     pipelines, default = choices("evaluate", "pipelines")
     assert all(make_named_pipeline(name) is not None for name in pipelines)  # every name the parser offers builds
     with pytest.raises(ValueError, match="unknown pipeline"):
-        evaluate_pipelines("everyday", ["not-a-pipeline"])
+        evaluate_pipelines(["not-a-pipeline"], [], [])
     assert default is None  # evaluate_pipelines' default: DEFAULT_PIPELINES, + loading_compliance with force
     from sklearn_hardness._registry import DEFAULT_PIPELINES, PIPELINE_NAMES
 

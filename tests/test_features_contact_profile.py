@@ -158,7 +158,8 @@ def test_contact_profile_pipeline_in_evaluate():
 
     d = make_presses("everyday", n_per_class=2, n_objects=9, class_ratio=[1, 1, 1], image_size=(32, 40),
                      codec=None, random_state=0)
-    result = evaluate_pipelines(d, ["contact_profile"], cv=3)
+    result = evaluate_pipelines(["contact_profile"], d.videos, d.target, groups=d.object_id, cv=3,
+                                target_names=d.target_names, hardness=d.hardness, error_score="raise", random_state=0)
     assert [r["pipeline"] for r in result.table] == ["peak_change", "contact_profile"]
     assert np.isfinite(result.table[1]["balanced_accuracy"])
 

@@ -15,9 +15,33 @@ from sklearn_hardness._cli import main
 from sklearn_hardness._registry import PIPELINE_NAMES
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.experiments import run_model_baselines
-from sklearn_hardness.model_selection import (corrected_interval, evaluate_pipelines, format_evaluation,
-                                              plot_confusion_matrices)
+from sklearn_hardness._registry import make_named_pipeline, pipeline_info
+from sklearn_hardness.model_selection import (ConfusionMatricesDisplay, EvaluationResult, corrected_interval,
+                                              evaluate_pipelines, format_evaluation)
+from sklearn_hardness.model_selection._evaluate import _takes_force_position
+from sklearn_hardness.model_selection._force_position import force_position, presses_lacking_force_position
 from sklearn_hardness.models import make_contact_profile_pipeline, make_peak_change_baseline, peak_contact_change
+
+
+def _run(data, pipelines=None, *, baseline=True, roi=None, random_state=0, error_score="raise", verbose=1,
+         **kwargs):
+    """``evaluate_pipelines`` on a dataset Bunch, as the CLI calls it (the old dataset-first call, in one place)."""
+    if pipelines is None:
+        pipelines = ["contact_geometry", "convlstm_intensity", "contact_profile"] + (
+            [] if presses_lacking_force_position(data) else ["loading_compliance"])
+    if not isinstance(pipelines, dict):
+        def video(name):
+            return {"roi": roi} if roi is not None and pipeline_info(name).input == "video" else {}
+
+        pipelines = {name: make_named_pipeline(name, random_state=random_state, **video(name)) for name in pipelines}
+    reads = [n for n, e in pipelines.items() if _takes_force_position(e)]
+    groups = getattr(data, "object_id", None)
+    return evaluate_pipelines(
+        pipelines, data.videos, data.target, groups=groups,
+        baseline=("peak_change", make_named_pipeline("peak_change", roi=roi)) if baseline else None,
+        target_names=data.target_names, hardness=getattr(data, "hardness", None),
+        force_position=force_position(data, reads) if reads else None, random_state=random_state,
+        error_score=error_score, verbose=verbose, **kwargs)
 
 
 @pytest.fixture(scope="module")
@@ -32,7 +56,7 @@ class _Fails(BaseEstimator, ClassifierMixin):
 
 
 def test_folds_are_object_disjoint_and_table_is_complete(tiny):
-    result = evaluate_pipelines(tiny, {"dummy": DummyClassifier(strategy="most_frequent")}, cv=3)
+    result = _run(tiny, {"dummy": DummyClassifier(strategy="most_frequent")}, cv=3)
     assert [r["pipeline"] for r in result.table] == ["peak_change", "dummy"]
     tests = np.concatenate(result.folds)
     assert np.array_equal(np.sort(tests), np.arange(len(tiny.target)))  # every press tested once
@@ -73,7 +97,7 @@ def test_recommendation_names_the_best_pipeline_above_the_baseline(tiny):
     labels = {np.asarray(v).tobytes(): int(c) for v, c in zip(tiny.videos, tiny.target)}
     pipes = {"dummy": DummyClassifier(strategy="most_frequent"), "oracle": _KnowsTheLabels(labels)}
     # 4 folds: with 3 folds of 12 objects the corrected interval of even a perfect pipeline holds 0
-    result = evaluate_pipelines(tiny, pipes, cv=4, verbose=0)
+    result = _run(tiny, pipes, cv=4, verbose=0)
     rows = {r["pipeline"]: r for r in result.table}
     base = result.fold_scores["peak_change"]
     for name in ("dummy", "oracle"):  # paired over the same folds
@@ -87,16 +111,16 @@ def test_recommendation_names_the_best_pipeline_above_the_baseline(tiny):
     assert "Choose oracle" in text and "No pipeline above the baseline has predict_proba_samples" in text
     # with predict_proba_samples it is also the choice for active sampling
     pipes["oracle"] = _KnowsTheLabelsWithSamples(labels)
-    result = evaluate_pipelines(tiny, pipes, cv=4, verbose=0)
+    result = _run(tiny, pipes, cv=4, verbose=0)
     assert result.recommended == result.recommended_with_samples == "oracle"
     assert {r["pipeline"]: r["predict_proba_samples"] for r in result.table} == {
         "peak_change": False, "dummy": False, "oracle": True}
     # nothing above the baseline: no recommendation, and the text says the one number does as well
-    result = evaluate_pipelines(tiny, {"dummy": DummyClassifier(strategy="most_frequent")}, cv=3, verbose=0)
+    result = _run(tiny, {"dummy": DummyClassifier(strategy="most_frequent")}, cv=3, verbose=0)
     assert result.recommended is None and result.recommended_with_samples is None
     assert "No pipeline is above the one-number baseline" in format_evaluation(result)
     # without the baseline, no comparison and no recommendation line
-    result = evaluate_pipelines(tiny, {"dummy": DummyClassifier()}, cv=3, baseline=False, verbose=0)
+    result = _run(tiny, {"dummy": DummyClassifier()}, cv=3, baseline=False, verbose=0)
     assert result.table[0]["vs_baseline"] is None and result.recommended is None
     assert "Choose" not in format_evaluation(result) and "vs peak:" not in format_evaluation(result)
 
@@ -106,7 +130,7 @@ def test_margin_interval_is_corrected_for_overlapping_training_sets(tiny):
     # t-interval over folds, which is too narrow when the training sets overlap
     labels = {np.asarray(v).tobytes(): int(c) for v, c in zip(tiny.videos, tiny.target)}
     pipes = {"dummy": DummyClassifier(strategy="stratified", random_state=0), "oracle": _KnowsTheLabels(labels)}
-    result = evaluate_pipelines(tiny, pipes, cv=3, verbose=0)
+    result = _run(tiny, pipes, cv=3, verbose=0)
     n = len(tiny.target)
     ratio = np.mean([len(test) / (n - len(test)) for test in result.folds])
     for row in result.table[1:]:
@@ -139,8 +163,8 @@ def test_corrected_interval_of_scores_and_of_paired_differences():
 
 def test_repeated_folds_reuse_the_objects_in_other_assignments(tiny):
     pipes = {"dummy": DummyClassifier(strategy="stratified", random_state=0)}
-    once = evaluate_pipelines(tiny, pipes, cv=3, verbose=0)
-    result = evaluate_pipelines(tiny, pipes, cv=3, n_repeats=3, verbose=0)
+    once = _run(tiny, pipes, cv=3, verbose=0)
+    result = _run(tiny, pipes, cv=3, n_repeats=3, verbose=0)
     n = len(tiny.target)
     assert result.n_repeats == 3 and len(result.folds) == 9
     assignments = []
@@ -181,12 +205,12 @@ def test_repeated_folds_reuse_the_objects_in_other_assignments(tiny):
                                              min(values.mean() + half, 1)))
     assert "object-disjoint 3-fold CV x 3 repetitions, 12 objects" in format_evaluation(result)
     with pytest.raises(ValueError, match="n_repeats"):  # InvalidParameterError
-        evaluate_pipelines(tiny, [], cv=3, n_repeats=0)
+        _run(tiny, [], cv=3, n_repeats=0)
 
 
 def test_accuracy_interval_is_corrected_too(tiny):
     # the interval of the mean balanced accuracy has the same overlapping training sets as the margin's
-    result = evaluate_pipelines(tiny, {"dummy": DummyClassifier(strategy="stratified", random_state=0)},
+    result = _run(tiny, {"dummy": DummyClassifier(strategy="stratified", random_state=0)},
                                 cv=3, verbose=0)
     n = len(tiny.target)
     ratio = np.mean([len(test) / (n - len(test)) for test in result.folds])
@@ -215,7 +239,7 @@ def test_intervals_are_clipped_to_the_range_of_the_score(tiny):
     labels = {np.asarray(v).tobytes(): int(c) for v, c in zip(tiny.videos, tiny.target)}
     first = tiny.object_id[0]
     wrong = {np.asarray(v).tobytes() for v, o in zip(tiny.videos, tiny.object_id) if o == first}
-    result = evaluate_pipelines(tiny, {"almost": _KnowsTheLabelsButOneObject(labels, wrong)}, cv=4, verbose=0)
+    result = _run(tiny, {"almost": _KnowsTheLabelsButOneObject(labels, wrong)}, cv=4, verbose=0)
     row = result.table[1]
     scores = result.fold_scores["almost"]
     assert (scores == 1).sum() == 3 and scores.min() < 1  # perfect on every fold but the one
@@ -223,7 +247,9 @@ def test_intervals_are_clipped_to_the_range_of_the_score(tiny):
     assert scores.mean() + half > 1.1  # unclipped, the interval would reach well past 1
     assert row["balanced_accuracy_ci"] == pytest.approx((scores.mean() - half, 1.0))
     assert row["balanced_accuracy_ci"][1] == 1.0
-    assert f"{row['balanced_accuracy']:.2f} [{scores.mean() - half:.2f}, 1.00]" in format_evaluation(result)
+    # 4 folds: the table says in words that they are too few for an interval, rather than print it
+    assert "4 folds: too few for an interval" in format_evaluation(result)
+    assert f"[{scores.mean() - half:.2f}, 1.00]" not in format_evaluation(result)
     for r in result.table:  # every interval within the range of its score
         assert 0 <= r["balanced_accuracy_ci"][0] <= r["balanced_accuracy_ci"][1] <= 1
         assert 0 <= r["mae_ci"][0]
@@ -234,7 +260,7 @@ def test_intervals_are_clipped_to_the_range_of_the_score(tiny):
 def test_recall_per_class_says_which_ranks_a_pipeline_misses(tiny):
     labels = {np.asarray(v).tobytes(): int(c) for v, c in zip(tiny.videos, tiny.target)}
     pipes = {"dummy": DummyClassifier(strategy="constant", constant=1), "oracle": _KnowsTheLabels(labels)}
-    result = evaluate_pipelines(tiny, pipes, cv=3, verbose=0)
+    result = _run(tiny, pipes, cv=3, verbose=0)
     rows = {r["pipeline"]: r for r in result.table}
     names = [str(n) for n in tiny.target_names]
     assert rows["oracle"]["recall"] == dict.fromkeys(names, 1.0)
@@ -279,7 +305,7 @@ def test_per_object_figures_class_each_object_by_its_presses_mean_probabilities(
         proba[np.asarray(video).tobytes()] = p
     assert np.bincount(np.unique(tiny.object_id, return_counts=True)[1]).tolist() == [0, 0, 12]
     pipes = {"mean": _SureOnceUnsureOnce(proba), "votes": _SureOnceUnsureOnceVotes(proba)}
-    result = evaluate_pipelines(tiny, pipes, cv=3, verbose=0)
+    result = _run(tiny, pipes, cv=3, verbose=0)
     rows = {r["pipeline"]: r for r in result.table}
     np.testing.assert_allclose(result.fold_scores["mean"], 0.5)
     np.testing.assert_allclose(result.fold_scores["votes"], 0.5)
@@ -298,18 +324,20 @@ def test_per_object_figures_class_each_object_by_its_presses_mean_probabilities(
     assert "12 objects, median 2 presses each" in text
     block = text.split("per object:")[1].split("recall per class")[0]
     lines = {line.split()[0]: line.split(maxsplit=1)[1] for line in block.splitlines()[1:]}
-    assert lines["mean"].startswith("1.00 [1.00, 1.00]") and lines["votes"].startswith("0.67 [0.67, 0.67]")
-    assert lines["peak_change"].count("[") == 1  # no margin over itself
+    # 3 folds: the means, the intervals said in words (too few folds for one)
+    assert lines["mean"].startswith("1.00 ") and lines["votes"].startswith("0.67 ")
+    assert "+" not in lines["peak_change"]  # no margin over itself
+    assert "3 folds: too few for an interval" in text
 
 
 def test_failing_pipeline_is_reported_not_dropped(tiny):
     with pytest.warns(RuntimeWarning, match="boom"):
-        result = evaluate_pipelines(tiny, {"bad": _Fails()}, cv=3, error_score=np.nan)
+        result = _run(tiny, {"bad": _Fails()}, cv=3, error_score=np.nan)
     row = result.table[1]
     assert np.isnan(row["balanced_accuracy"]) and "boom" in row["error"]
     assert "error: RuntimeError: boom" in format_evaluation(result)
     with pytest.raises(RuntimeError, match="boom"):
-        evaluate_pipelines(tiny, {"bad": _Fails()}, cv=3)
+        _run(tiny, {"bad": _Fails()}, cv=3)
 
 
 class _KnowsTheLabelsOnOneFold(_KnowsTheLabels):
@@ -331,7 +359,7 @@ def test_one_fold_does_not_make_a_recommendation(tiny):
     labels = {np.asarray(v).tobytes(): int(c) for v, c in zip(tiny.videos, tiny.target)}
     oracle = _KnowsTheLabelsOnOneFold(labels, np.asarray(tiny.videos[0]).tobytes())
     with pytest.warns(RuntimeWarning, match="the press is in training"):
-        result = evaluate_pipelines(tiny, {"oracle": oracle}, cv=4, error_score=np.nan, verbose=0)
+        result = _run(tiny, {"oracle": oracle}, cv=4, error_score=np.nan, verbose=0)
     row = result.table[1]
     assert np.isfinite(result.fold_scores["oracle"]).sum() == 1 and row["vs_baseline"] > 0
     assert np.isnan(row["vs_baseline_ci"]).all() and np.isnan(row["balanced_accuracy_ci"]).all()
@@ -341,26 +369,26 @@ def test_one_fold_does_not_make_a_recommendation(tiny):
 
 def test_bad_input(tiny):
     with pytest.raises(ValueError, match="fewer than cv=5 objects .*; lower cv to at most 4"):
-        evaluate_pipelines(tiny, [], cv=5)
+        _run(tiny, [], cv=5)
     # what a manifest without an object_id column gives: every label one object; the error says so
     nameless = Bunch(**tiny)
     nameless.object_id = np.asarray(tiny.target_names)[tiny.target]
     with pytest.raises(ValueError, match="at least 2 objects of every class.*names no objects.*add an object_id"):
-        evaluate_pipelines(nameless, [], cv=3)
+        _run(nameless, [], cv=3)
     one_hard = Bunch(**tiny)  # objects named, but one class has one object: more objects, not a lower cv
     one_hard.object_id = np.where(tiny.target == 0, "the-hard-one", tiny.object_id)
     with pytest.raises(ValueError, match="'hard': 1.*record more objects of those classes"):
-        evaluate_pipelines(one_hard, [], cv=3)
+        _run(one_hard, [], cv=3)
     with pytest.raises(ValueError, match="unknown pipeline"):
-        evaluate_pipelines(tiny, ["resnet"], cv=3)
+        _run(tiny, ["resnet"], cv=3)
     no_groups = Bunch(**tiny)
     no_groups.object_id = None
-    with pytest.raises(ValueError, match="no object_id"):
-        evaluate_pipelines(no_groups, [], cv=3)
-    with pytest.raises(FileNotFoundError, match="neither a simulator preset"):
-        evaluate_pipelines("/nonexistent/manifest.csv", [], cv=3)
+    with pytest.raises(ValueError, match="integer cv makes folds grouped by object: pass groups"):
+        _run(no_groups, [], cv=3)
+    with pytest.raises(ValueError, match="X has 24 presses but y has 23"):
+        evaluate_pipelines([], tiny.videos, tiny.target[1:], groups=tiny.object_id, cv=3)
     with pytest.raises(ValueError, match="cv"):  # InvalidParameterError
-        evaluate_pipelines(tiny, [], cv=1)
+        _run(tiny, [], cv=1)
 
 
 def test_peak_change_baseline_uses_the_contact_signal(tiny):
@@ -376,8 +404,8 @@ def test_peak_change_baseline_uses_the_contact_signal(tiny):
     rng = np.random.default_rng(0)
     shuffled = make_pipeline(FunctionTransformer(lambda X: rng.permutation(peak_contact_change(X))),
                              *[s for _, s in base.steps[1:]])
-    real = evaluate_pipelines(tiny, {}, cv=3).table[0]["balanced_accuracy"]
-    noise = evaluate_pipelines(tiny, {"shuffled": shuffled}, cv=3, baseline=False).table[0]
+    real = _run(tiny, {}, cv=3).table[0]["balanced_accuracy"]
+    noise = _run(tiny, {"shuffled": shuffled}, cv=3, baseline=False).table[0]
     assert real > noise["balanced_accuracy"]
 
 
@@ -429,17 +457,18 @@ def test_cli_evaluate_on_a_manifest(tmp_path, capsys, monkeypatch):
 
 def test_named_nets_are_seeded_by_random_state():
     """A run by name repeats exactly: the nets take the evaluation's seed."""
-    from sklearn_hardness.model_selection._evaluate import _pipeline_by_name
+    from sklearn_hardness.model_selection._evaluate import _named_estimators
 
-    assert _pipeline_by_name("ofnn_quantiles", 3)[-1].random_state == 3
-    conv = _pipeline_by_name("convlstm_intensity", 3)
-    assert conv[-1].random_state == 3 and "intensity" in conv.named_steps
-    assert _pipeline_by_name("ofnn_quantiles")[-1].random_state is None
+    named, base = _named_estimators(["ofnn_quantiles", "convlstm_intensity"], "peak_change", 3, None)
+    assert base == "peak_change" and list(named) == ["peak_change", "ofnn_quantiles", "convlstm_intensity"]
+    assert named["ofnn_quantiles"][-1].random_state == 3
+    assert named["convlstm_intensity"][-1].random_state == 3 and "intensity" in named["convlstm_intensity"].named_steps
+    assert _named_estimators(["ofnn_quantiles"], None, None, None)[0]["ofnn_quantiles"][-1].random_state is None
 
 
 def test_a_run_by_name_repeats_exactly(tiny):
-    a = evaluate_pipelines(tiny, pipelines=["ofnn"], cv=3, random_state=1)
-    b = evaluate_pipelines(tiny, pipelines=["ofnn"], cv=3, random_state=1)
+    a = _run(tiny, pipelines=["ofnn"], cv=3, random_state=1)
+    b = _run(tiny, pipelines=["ofnn"], cv=3, random_state=1)
     np.testing.assert_array_equal(a.predictions["ofnn"], b.predictions["ofnn"])
 
 
@@ -448,8 +477,8 @@ def test_contact_profile_3_is_the_factory_with_three_features(tiny):
     from sklearn_hardness.models import make_contact_profile_pipeline
 
     three = ["log_peak_change", "log_loading_time", "log_contact_spread"]
-    named = evaluate_pipelines(tiny, pipelines=["contact_profile_3", "contact_profile"], cv=3, verbose=0)
-    built = evaluate_pipelines(tiny, {"contact_profile_3": make_contact_profile_pipeline(features=three)}, cv=3,
+    named = _run(tiny, pipelines=["contact_profile_3", "contact_profile"], cv=3, verbose=0)
+    built = _run(tiny, {"contact_profile_3": make_contact_profile_pipeline(features=three)}, cv=3,
                                verbose=0)
     np.testing.assert_array_equal(named.predictions["contact_profile_3"], built.predictions["contact_profile_3"])
     assert named.table[1]["balanced_accuracy"] == built.table[1]["balanced_accuracy"]
@@ -461,16 +490,16 @@ def test_progress_on_stderr_when_verbose(tiny, capsys):
     import re
 
     dummy = {"dummy": DummyClassifier(strategy="most_frequent")}
-    evaluate_pipelines(tiny, dummy, cv=3, verbose=1)
+    _run(tiny, dummy, cv=3, verbose=1)
     captured = capsys.readouterr()
     lines = captured.err.splitlines()
-    assert lines[0].startswith("evaluate: 2 pipeline(s) (peak_change, dummy) x 3 object-disjoint folds")
+    assert lines[0].startswith("evaluate: 2 pipeline(s) (peak_change, dummy) x 3 folds on")
     assert lines[1] == "evaluate: peak_contact_change of every press, once for all folds (peak_change)"
     done = [int(m) for m in re.findall(r"^evaluate: (\d)/6 fits, \d+s elapsed, about \d+s left(?:, not counting "
                                        r"dummy \(no fit finished yet\))?$",
                                        captured.err, flags=re.M)]
     assert done == [1, 2, 3, 4, 5, 6] and captured.out == ""
-    evaluate_pipelines(tiny, dummy, cv=3, verbose=0)
+    _run(tiny, dummy, cv=3, verbose=0)
     assert capsys.readouterr().err == ""
 
 
@@ -495,12 +524,12 @@ def test_peak_change_roi_measures_only_the_region():
 
 def test_roi_reaches_the_baseline_and_every_named_pipeline():
     """``evaluate --roi``: each pipeline reads the gel only; where the rest of the frame changes, that decides."""
-    from sklearn_hardness.model_selection._evaluate import _pipeline_by_name
+    from sklearn_hardness._cli._evaluate import _estimators
 
     from ._synthetic import FRAMED_GEL, framed_press, growing_disc_press
 
     for name in PIPELINE_NAMES:
-        params = _pipeline_by_name(name, 0, FRAMED_GEL).get_params()
+        params = _estimators([name], None, FRAMED_GEL, 0)[name].get_params()
         if name == "loading_compliance":  # force and position: no frames to read
             assert not any(k.endswith("__roi") for k in params), name
             continue
@@ -514,12 +543,9 @@ def test_roi_reaches_the_baseline_and_every_named_pipeline():
                                                  float(rng.uniform(5, 9)), rng), rng))
         y.append(soft)
     data = Bunch(videos=X, target=np.array(y), target_names=np.array(["hard", "soft"]), object_id=np.arange(30))
-    on_gel = evaluate_pipelines(data, ["contact_profile"], cv=3, roi=FRAMED_GEL, verbose=0)
-    whole = evaluate_pipelines(data, ["contact_profile"], cv=3, verbose=0)
+    on_gel = _run(data, ["contact_profile"], cv=3, roi=FRAMED_GEL, verbose=0)
+    whole = _run(data, ["contact_profile"], cv=3, verbose=0)
     assert on_gel.table[1]["balanced_accuracy"] >= 0.9 > 0.6 >= whole.table[1]["balanced_accuracy"]
-    # a bad region is named before any data is read
-    with pytest.raises(ValueError, match="roi must be None or"):
-        evaluate_pipelines("/nonexistent/manifest.csv", [], roi=(0.9, 0.1, 0.0, 1.0))
 
 
 def test_per_press_steps_run_once_for_all_folds_with_the_same_results(tiny, monkeypatch):
@@ -536,13 +562,13 @@ def test_per_press_steps_run_once_for_all_folds_with_the_same_results(tiny, monk
 
     monkeypatch.setattr(ContactProfileFeatures, "fit_transform", counting)
     names = ["contact_profile", "contact_profile_nn", "contact_profile_3", "ofnn"]
-    once = evaluate_pipelines(tiny, names, cv=3, verbose=0)
+    once = _run(tiny, names, cv=3, verbose=0)
     # every press once, for the three contact-profile pipelines (contact_profile_3 takes its three columns
     # of the twelve) and all folds
     assert calls == [len(tiny.target)]
     calls.clear()
     monkeypatch.setattr(_evaluate, "split_per_press", lambda est: (None, est))  # each fold computes its own
-    per_fold = evaluate_pipelines(tiny, names, cv=3, verbose=0)
+    per_fold = _run(tiny, names, cv=3, verbose=0)
     assert len(calls) == 9  # one pass per fold and pipeline
     for name in ["peak_change", *names]:
         np.testing.assert_array_equal(once.predictions[name], per_fold.predictions[name])
@@ -562,9 +588,9 @@ def test_per_press_pass_gives_the_nets_the_same_inputs(tiny, monkeypatch):
                 "dinov2nn": make_dinov2nn_pipeline(model=tiny_backbone(), frame_size=(28, 28), max_epochs=3,
                                                    random_state=0)}
 
-    once = evaluate_pipelines(tiny, nets(), cv=3, baseline=False, verbose=0)
+    once = _run(tiny, nets(), cv=3, baseline=False, verbose=0)
     monkeypatch.setattr(_evaluate, "split_per_press", lambda est: (None, est))
-    per_fold = evaluate_pipelines(tiny, nets(), cv=3, baseline=False, verbose=0)
+    per_fold = _run(tiny, nets(), cv=3, baseline=False, verbose=0)
     for name in ("convlstm", "dinov2nn"):
         np.testing.assert_array_equal(once.predictions[name], per_fold.predictions[name])
         np.testing.assert_array_equal(once.fold_scores[name], per_fold.fold_scores[name])
@@ -617,7 +643,7 @@ def test_a_press_no_step_can_read_fails_its_folds_as_before(tiny):
     videos[0] = np.zeros((5, 8), dtype=np.uint8)  # not a video
     data = Bunch(videos=videos, target=tiny.target, target_names=tiny.target_names, object_id=tiny.object_id)
     with pytest.warns(RuntimeWarning, match="failed on a fold"):
-        result = evaluate_pipelines(data, ["contact_profile"], cv=3, error_score=np.nan, verbose=0)
+        result = _run(data, ["contact_profile"], cv=3, error_score=np.nan, verbose=0)
     for row in result.table:  # every fold holds the press in training or test
         assert np.isnan(row["balanced_accuracy"]) and row["error"], row
 
@@ -640,12 +666,17 @@ def test_presses_a_pipeline_cannot_take_are_named_by_dataset_index_and_file(tiny
 
     data = Bunch(**tiny)
     data.videos = [v[:1] if i in (5, 17) else v for i, v in enumerate(tiny.videos)]
-    data.paths = [f"objects/press_{i}.mp4" for i in range(len(data.videos))]
+    # a manifest's lazy videos: their keys (the files) name the presses
+    from sklearn_hardness.datasets._lazy import LazyVideoSequence
+
+    shortened = list(data.videos)
+    data.videos = LazyVideoSequence(lambda path: shortened[int(path.split("_")[1].split(".")[0])],
+                                    [f"objects/press_{i}.mp4" for i in range(len(shortened))])
     frames = make_pipeline(ContactFrameSelector(frame_size=(8, 10)), FunctionTransformer(
         lambda X: np.asarray(X, dtype=float).reshape(len(X), -1)), _CountsFits())
     _CountsFits.fits = 0
     with pytest.raises(FailingPressesError) as info:
-        evaluate_pipelines(data, {"profile": make_contact_profile_pipeline(), "frames": frames}, cv=3,
+        _run(data, {"profile": make_contact_profile_pipeline(), "frames": frames}, cv=3,
                            n_jobs=2, verbose=0)
     message = str(info.value)
     assert message.startswith("frames: ContactFrameSelector fails on 2 of 24 presses, each by itself:\n")
@@ -655,7 +686,7 @@ def test_presses_a_pipeline_cannot_take_are_named_by_dataset_index_and_file(tiny
     assert [i for i, _ in info.value.failures] == [5, 17] and _CountsFits.fits == 0  # before any fit
     # with a numeric error_score: its folds fail at once (no fit), the notes name the presses, others score
     with pytest.warns(RuntimeWarning, match="'frames' failed on a fold"):
-        result = evaluate_pipelines(data, {"profile": make_contact_profile_pipeline(), "frames": frames}, cv=3,
+        result = _run(data, {"profile": make_contact_profile_pipeline(), "frames": frames}, cv=3,
                                     error_score=np.nan, verbose=0)
     rows = {r["pipeline"]: r for r in result.table}
     assert _CountsFits.fits == 0 and np.isnan(rows["frames"]["balanced_accuracy"])
@@ -675,10 +706,10 @@ def test_an_error_of_the_steps_not_the_presses_is_raised_as_it_is(tiny):
 
     bad = make_pipeline(ContactFrameSelector(roi=(0.9, 0.1, 0.0, 1.0)), DummyClassifier())
     with pytest.raises(ValueError, match="roi") as info:
-        evaluate_pipelines(tiny, {"bad": bad}, cv=3, n_jobs=2, verbose=0)
+        _run(tiny, {"bad": bad}, cv=3, n_jobs=2, verbose=0)
     assert not isinstance(info.value, FailingPressesError)
     with pytest.warns(RuntimeWarning, match="failed on a fold"):
-        result = evaluate_pipelines(tiny, {"bad": bad}, cv=3, error_score=np.nan, verbose=0)
+        result = _run(tiny, {"bad": bad}, cv=3, error_score=np.nan, verbose=0)
     assert "roi" in result.table[1]["error"] and "FailingPressesError" not in result.table[1]["error"]
 
 
@@ -701,9 +732,18 @@ def test_an_error_no_press_raises_alone_is_raised_as_it_is():
 def test_plot_confusion_matrices_draws_one_row_normalised_matrix_per_pipeline(tmp_path):
     data = make_presses("everyday", n_per_class=2, n_objects=9, class_ratio=[1, 1, 1],
                         image_size=(32, 40), codec=None, random_state=0)
-    result = evaluate_pipelines(data, pipelines={"dummy": DummyClassifier(strategy="prior")}, cv=3, verbose=0)
-    fig = plot_confusion_matrices(result, path=tmp_path / "cm.png")
-    assert (tmp_path / "cm.png").stat().st_size > 0
+    result = _run(data, pipelines={"dummy": DummyClassifier(strategy="prior")}, cv=3, verbose=0)
+    display = ConfusionMatricesDisplay.from_result(result)
+    fig = display.figure_
+    fig.savefig(tmp_path / "cm.png")
+    assert (tmp_path / "cm.png").stat().st_size > 0 and list(display.displays_) == ["peak_change", "dummy"]
+    # drawn on the user's axes, as scikit-learn's displays
+    import matplotlib.pyplot as plt
+
+    _, axes = plt.subplots(2, 1)
+    assert ConfusionMatricesDisplay.from_result(result, ax=axes).figure_ is axes[0].figure
+    with pytest.raises(ValueError, match="one per pipeline"):
+        ConfusionMatricesDisplay.from_result(result, ax=axes[:1])
     axes = [ax for ax in fig.axes if ax.images]
     assert len(axes) == len(result.confusion) == 2
     shown = np.asarray(axes[0].images[0].get_array())
@@ -724,7 +764,7 @@ def test_loading_compliance_reads_force_and_position_on_the_same_folds(tiny):
 
     spied = make_loading_compliance_pipeline()
     spied.steps[0] = ("features", Spy(features=["hertz_compliance"]))
-    result = evaluate_pipelines(tiny, {"spied": spied, "named": make_loading_compliance_pipeline()}, cv=3,
+    result = _run(tiny, {"spied": spied, "named": make_loading_compliance_pipeline()}, cv=3,
                                 verbose=0)
     by_name = {row["pipeline"]: row for row in result.table}
     np.testing.assert_array_equal(result.fold_scores["spied"], result.fold_scores["named"])
@@ -743,23 +783,23 @@ def test_loading_compliance_reads_force_and_position_on_the_same_folds(tiny):
 def test_loading_compliance_without_position_is_an_error_that_says_what_to_give(tiny):
     no_position = Bunch(**{k: v for k, v in tiny.items() if k != "position"})
     with pytest.raises(ValueError, match="force_path and position_path"):
-        evaluate_pipelines(no_position, ["loading_compliance"], cv=3, verbose=0)
+        _run(no_position, ["loading_compliance"], cv=3, verbose=0)
     cut = Bunch(**tiny)
     cut.position = [p[:-1] if i == 4 else p for i, p in enumerate(tiny.position)]
     with pytest.raises(ValueError, match="press 4 has .* force values but .* positions"):
-        evaluate_pipelines(cut, ["loading_compliance"], cv=3, verbose=0)
+        _run(cut, ["loading_compliance"], cv=3, verbose=0)
     cut.paths = [f"videos/press_{i}.avi" for i in range(len(cut.target))]  # a manifest's: its video named
     with pytest.raises(ValueError, match=r"press 4 \(videos/press_4.avi\) has .* force values but"):
-        evaluate_pipelines(cut, ["loading_compliance"], cv=3, verbose=0)
+        _run(cut, ["loading_compliance"], cv=3, verbose=0)
 
 
 def test_the_loading_phase_note_says_where_the_recording_breaks_the_conventions(tiny):
     # the folds silence LoadingCompliance's warnings; a position that falls (a gripper's width) is said once
     width = Bunch(**tiny)
     width.position = [-z for z in tiny.position]
-    notes = evaluate_pipelines(width, ["loading_compliance"], cv=3, verbose=0).notes
+    notes = _run(width, ["loading_compliance"], cv=3, verbose=0).notes
     assert len(notes) == 1 and "the position falls as the force rises" in notes[0]
-    assert "the position falls" not in " ".join(evaluate_pipelines(tiny, ["loading_compliance"], cv=3,
+    assert "the position falls" not in " ".join(_run(tiny, ["loading_compliance"], cv=3,
                                                                    verbose=0).notes)
 
 
@@ -785,18 +825,17 @@ def test_by_default_evaluate_adds_loading_compliance_where_every_press_has_force
     from sklearn_hardness._registry import DEFAULT_PIPELINES
     from sklearn_hardness.model_selection import _evaluate
 
-    assert _evaluate._default_pipelines(tiny) == [*DEFAULT_PIPELINES, "loading_compliance"]
+    from sklearn_hardness._cli._evaluate import _force_position
+
+    assert len(_force_position(tiny, None)) == len(tiny.target)  # the command adds loading_compliance
+    assert list(_evaluate._named_estimators(None, None, 0, _force_position(tiny, None))[0]) == [
+        *DEFAULT_PIPELINES, "loading_compliance"]
     no_position = Bunch(**{k: v for k, v in tiny.items() if k != "position"})
-    assert _evaluate._default_pipelines(no_position) == list(DEFAULT_PIPELINES)
+    assert _force_position(no_position, None) is None
+    assert list(_evaluate._named_estimators(None, None, 0, None)[0]) == list(DEFAULT_PIPELINES)
     one_lacking = Bunch(**tiny)
     one_lacking.position = [None, *tiny.position[1:]]
-    assert _evaluate._default_pipelines(one_lacking) == list(DEFAULT_PIPELINES)
-    # evaluate_pipelines(pipelines=None) and the command without --pipelines take that default
-    asked = []
-    monkeypatch.setattr(_evaluate, "_pipeline_by_name",
-                        lambda name, seed=None, roi=None: asked.append(name) or make_peak_change_baseline())
-    evaluate_pipelines(tiny, None, cv=3, verbose=0)
-    assert asked[:-1] == [*DEFAULT_PIPELINES, "loading_compliance"] and asked[-1] == "peak_change"
+    assert _force_position(one_lacking, None) is None
     assert build_parser().parse_args(["evaluate", "everyday"]).pipelines is None
 
 
@@ -804,10 +843,10 @@ def test_a_multi_axis_force_is_an_error_that_says_which_component_to_give(tiny):
     three_axis = Bunch(**tiny)
     three_axis.force = [np.column_stack([f, f, f]) if i == 2 else f for i, f in enumerate(tiny.force)]
     with pytest.raises(ValueError, match=r"press 2: force must be one number per frame.*shape \(\d+, 3\)"):
-        evaluate_pipelines(three_axis, ["loading_compliance"], cv=3, verbose=0)
+        _run(three_axis, ["loading_compliance"], cv=3, verbose=0)
     column = Bunch(**tiny)
     column.position = [z[:, None] for z in tiny.position]  # (T, 1) is one number per frame
-    assert evaluate_pipelines(column, ["loading_compliance"], cv=3, verbose=0).table[1]["error"] is None
+    assert _run(column, ["loading_compliance"], cv=3, verbose=0).table[1]["error"] is None
 
 
 def test_notes_say_once_what_the_folds_warnings_would_have_said(tiny):
@@ -822,7 +861,7 @@ def test_notes_say_once_what_the_folds_warnings_would_have_said(tiny):
         status = ContactFrameSelector().select(data.videos).status
     assert status[5] == "too short"
     frames = make_pipeline(ContactFrameSelector(), DummyClassifier())
-    result = evaluate_pipelines(data, {"frames": frames}, cv=3, verbose=0)
+    result = _run(data, {"frames": frames}, cv=3, verbose=0)
     found = int(np.isin(status, ["contact", "weak contact"]).sum())
     weak, short = int((status == "weak contact").sum()), int((status == "too short").sum())
     assert result.notes[0].startswith(f"contact (frames): found on {found} of {len(status)} presses "
@@ -832,11 +871,11 @@ def test_notes_say_once_what_the_folds_warnings_would_have_said(tiny):
     # selections that agree on every press give one line naming their pipelines; others their own
     pipes = {"frames": frames, "more_frames": make_pipeline(ContactFrameSelector(n_between=3), DummyClassifier()),
              "blind": make_pipeline(ContactFrameSelector(threshold=1e6), DummyClassifier())}
-    notes = evaluate_pipelines(data, pipes, cv=3, verbose=0).notes
+    notes = _run(data, pipes, cv=3, verbose=0).notes
     assert len(notes) == 2 and notes[0].startswith("contact (frames, more_frames): found on")
     assert notes[1].startswith(f"contact (blind): found on 0 of {len(status)} presses (0 weak); no contact")
 
-    result = evaluate_pipelines(data, ["loading_compliance"], cv=3, verbose=0)
+    result = _run(data, ["loading_compliance"], cv=3, verbose=0)
     rows = [np.column_stack([f, z]) for f, z in zip(data.force, data.position)]
     with pytest.warns(UserWarning, match="their figures are NaN"):
         missing = np.flatnonzero(np.isnan(LoadingCompliance().fit_transform(rows)).any(axis=1))
@@ -846,7 +885,7 @@ def test_notes_say_once_what_the_folds_warnings_would_have_said(tiny):
                             "frames from 0.1 of the peak force to the peak): their figures are NaN, for an "
                             "imputer in the pipeline to fill"]
     # pipelines without such steps have nothing to note
-    assert evaluate_pipelines(tiny, {"dummy": DummyClassifier()}, cv=3, verbose=0).notes == []
+    assert _run(tiny, {"dummy": DummyClassifier()}, cv=3, verbose=0).notes == []
 
 
 def test_flow_note_counts_the_corners_and_lost_tracks_of_every_press(tiny):
@@ -880,7 +919,7 @@ def test_flow_note_counts_the_corners_and_lost_tracks_of_every_press(tiny):
 
     # another pass whose tracks are the same (fill_lost changes the rows, not the tracks) shares the line
     same_tracks = clone(flow).set_params(opticalflowfeatures__fill_lost="last")
-    result = evaluate_pipelines(data, {"flow": flow, "same_flow": same_tracks}, cv=3, verbose=0)
+    result = _run(data, {"flow": flow, "same_flow": same_tracks}, cv=3, verbose=0)
     n = len(corners)
     assert result.notes[1] == (
         f"optical flow (flow, same_flow): corners in a press's first frame {int(np.median(corners))} (median; "
@@ -913,7 +952,7 @@ def test_slow_fits_are_shared_among_the_workers(tiny, tmp_path):
     # 24 quick fits and 6 slow ones on 2 workers: joblib's automatic batching, timed on the quick ones, put
     # four of the six slow fits on one worker in each of three tries; one fit to a task shares them
     quick = {f"quick_{i}": DummyClassifier(strategy="prior") for i in range(3)}
-    result = evaluate_pipelines(tiny, {**quick, "slow": _SlowDummy(tmp_path)}, cv=3, n_repeats=2, n_jobs=2,
+    result = _run(tiny, {**quick, "slow": _SlowDummy(tmp_path)}, cv=3, n_repeats=2, n_jobs=2,
                                 verbose=0)
     assert result.table[-1]["error"] is None
     pids = [p.name.split("_")[0] for p in tmp_path.iterdir()]
@@ -939,7 +978,7 @@ def test_seconds_left_times_each_pipeline_by_its_own_fits():
 def test_progress_names_the_pipelines_not_timed_yet(tiny, capsys):
     import re
 
-    evaluate_pipelines(tiny, {"slow": _SlowDummy(None, seconds=0.0)}, cv=3, verbose=1, n_jobs=1)
+    _run(tiny, {"slow": _SlowDummy(None, seconds=0.0)}, cv=3, verbose=1, n_jobs=1)
     lines = [line for line in capsys.readouterr().err.splitlines() if " fits, " in line]
     # fold by fold: the baseline's first fit ends before any of slow's
     assert re.fullmatch(r"evaluate: 1/6 fits, \d+s elapsed, about \d+s left, not counting slow "
@@ -964,3 +1003,108 @@ def test_contact_geometry_features_are_computed_once_per_press():
     prefix, rest = split_per_press(make_named_pipeline("contact_geometry"))
     assert [name for name, _ in prefix.steps] == ["features"]
     assert [name for name, _ in rest.steps] == ["scale", "clf"]
+
+
+def test_named_pipeline_memory_makes_a_second_fit_of_the_same_steps_a_cache_hit(tiny, tmp_path):
+    from joblib import Memory
+
+    from sklearn_hardness.features import ContactGeometryFeatures
+
+    calls = []
+    original = ContactGeometryFeatures.fit_transform
+
+    def counting(self, X, y=None, **params):
+        calls.append(len(X))
+        return original(self, X, y, **params)
+
+    pipe = make_named_pipeline("contact_geometry", memory=Memory(tmp_path, verbose=0))
+    assert pipe.memory is not None
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(ContactGeometryFeatures, "fit_transform", counting)
+        first = clone(pipe).fit(tiny.videos, tiny.target).predict(tiny.videos[:4])
+        n_first = len(calls)
+        second = clone(pipe).fit(tiny.videos, tiny.target).predict(tiny.videos[:4])
+    assert n_first >= 1 and len(calls) == n_first  # the second fit read the cached steps
+    np.testing.assert_array_equal(first, second)
+
+
+_READS = []
+
+
+def _load_counted(key):
+    _READS.append(key)
+    return np.full((3, 4, 4, 3), key, np.uint8)
+
+
+def test_a_lazy_video_sequence_hashes_by_its_keys_without_reading_a_frame():
+    import joblib
+
+    from sklearn_hardness.datasets._lazy import LazyVideoSequence
+
+    reads, load = _READS, _load_counted
+    reads.clear()
+    videos = LazyVideoSequence(load, [1, 2, 3], cache_size=2)
+    videos[0]  # a cached frame does not change the hash
+    h = joblib.hash(videos)
+    assert reads == [1] and h == joblib.hash(LazyVideoSequence(load, [1, 2, 3], cache_size=2))
+    assert joblib.hash(videos[[0, 1]]) != h and joblib.hash(videos[[0, 1, 2]]) == h
+
+
+def test_params_route_the_training_folds_groups_to_an_inner_grid_search(tiny):
+    """Nested selection: the inner GridSearchCV(cv=GroupKFold) sees only the training fold's groups."""
+    from sklearn.linear_model import LogisticRegression
+    from sklearn.model_selection import GridSearchCV, GroupKFold
+
+    seen = []
+
+    class _Recording(GroupKFold):
+        def split(self, X, y=None, groups=None):
+            seen.append(set(np.asarray(groups).tolist()))
+            return super().split(X, y, groups)
+
+    inner = GridSearchCV(make_pipeline(FunctionTransformer(peak_contact_change), LogisticRegression()),
+                         {"logisticregression__C": [0.1, 1.0]}, cv=_Recording(n_splits=2))
+    result = evaluate_pipelines({"grid": inner}, tiny.videos, tiny.target, groups=tiny.object_id, cv=3,
+                                target_names=tiny.target_names, params={"grid": {"groups": tiny.object_id}},
+                                error_score="raise", random_state=0)
+    assert len(seen) == 3 and np.all(np.isfinite(result.fold_scores["grid"]))
+    for test, groups in zip(result.folds, seen):  # one inner search a fold, on its training objects alone
+        train = np.setdiff1d(np.arange(len(tiny.target)), test)
+        assert groups == set(tiny.object_id[train].tolist())
+        assert not groups & set(tiny.object_id[test].tolist())
+
+
+def test_evaluate_takes_any_splitter_and_returns_a_documented_result(tiny):
+    from sklearn.model_selection import GroupKFold, KFold
+
+    result = evaluate_pipelines({"dummy": DummyClassifier()}, tiny.videos, tiny.target, groups=tiny.object_id,
+                                cv=GroupKFold(4))
+    assert isinstance(result, EvaluationResult) and result.baseline == "peak_change"
+    assert result.summary["pipeline"] == ["peak_change", "dummy"] and len(result.fold_scores["dummy"]) == 4
+    np.testing.assert_allclose(result.differences["dummy"],
+                               result.fold_scores["dummy"] - result.fold_scores["peak_change"])
+    assert set(result.summary) >= {"balanced_accuracy_low", "vs_baseline_high"} and "dummy" in str(result.summary)
+    assert "object-disjoint 4-fold CV" in str(result)
+    pd = pytest.importorskip("pandas")
+    assert isinstance(result.summary.to_frame(), pd.DataFrame)
+    with pytest.warns(UserWarning, match="both sides of a fold"):  # a splitter that ignores the groups
+        evaluate_pipelines([], tiny.videos, tiny.target, groups=tiny.object_id, cv=KFold(3))
+    # a registry name or a (name, estimator) pair as baseline; names as strings, encoded labels
+    names = np.asarray(tiny.target_names)[tiny.target]
+    pairs = evaluate_pipelines([("dummy", DummyClassifier())], tiny.videos, names, groups=tiny.object_id, cv=3,
+                               baseline=("one", make_peak_change_baseline()))
+    assert list(pairs.fold_scores) == ["one", "dummy"] and list(pairs.target_names) == sorted(set(names))
+
+
+def test_family_groups_keep_the_per_object_figures_by_object(tiny):
+    # two families a class, each of several objects: folds by family, figures per object
+    rank = {}
+    for c, o in zip(tiny.target, tiny.object_id):
+        rank.setdefault(o, sum(1 for other in rank if tiny.target[tiny.object_id == other][0] == c))
+    family = np.array([f"f{int(c)}-{rank[o] % 2}" for c, o in zip(tiny.target, tiny.object_id)])
+    result = evaluate_pipelines({"dummy": DummyClassifier()}, tiny.videos, tiny.target, groups=family,
+                                objects=tiny.object_id, cv=2, target_names=tiny.target_names)
+    for test in result.folds:
+        train = np.setdiff1d(np.arange(len(tiny.target)), test)
+        assert not set(family[test]) & set(family[train])
+    assert np.array_equal(result.groups, tiny.object_id)  # per-object scoring by object, not by family

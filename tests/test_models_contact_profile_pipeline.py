@@ -106,7 +106,8 @@ def test_contact_profile_nn_runs_by_name_in_evaluate():
 
     d = make_presses("everyday", n_per_class=2, n_objects=9, class_ratio=[1, 1, 1], image_size=(32, 40),
                      codec=None, random_state=0)
-    result = evaluate_pipelines(d, ["contact_profile", "contact_profile_nn"], cv=3, verbose=0)
+    result = evaluate_pipelines(["contact_profile", "contact_profile_nn"], d.videos, d.target, groups=d.object_id,
+                                cv=3, target_names=d.target_names, error_score="raise", random_state=0)
     assert [r["pipeline"] for r in result.table] == ["peak_change", "contact_profile", "contact_profile_nn"]
     assert all(np.isfinite(r["balanced_accuracy"]) for r in result.table)
     assert result.predictions["contact_profile_nn"].shape == (len(d.target),)

@@ -68,7 +68,9 @@ def test_evaluate_lists_the_unreadable_videos_before_any_fit(manifest, error_sco
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)  # no "pipeline failed on a fold" warning
         with pytest.raises(UnreadableVideosError) as info:
-            evaluate_pipelines(load_press_videos(manifest), ["contact_profile"], cv=2, error_score=error_score)
+            data = load_press_videos(manifest)
+            evaluate_pipelines(["contact_profile"], data.videos, data.target, groups=data.object_id, cv=2,
+                               target_names=data.target_names, error_score=error_score)
     _assert_lists_both(str(info.value))
 
 

@@ -32,8 +32,8 @@ def _add_evaluate(sub):
     p = sub.add_parser(
         "evaluate",
         help="object-disjoint cross-validation of pipelines on your recordings or a preset",
-        description="Cross-validate pipelines with folds grouped by object_id (no test object is "
-        "seen in training), print balanced accuracy and hardness MAE per pipeline beside the "
+        description="Cross-validate pipelines with folds grouped by object_id, or by the manifest column "
+        "--groups names (no test group is seen in training), print balanced accuracy and hardness MAE per pipeline beside the "
         "one-number baseline (peak change to the first frame + balanced logistic regression) with "
         "each pipeline's margin over it paired by fold, name the pipeline to choose (the best one "
         "whose margin's 95% interval lies above 0; and the best with predict_proba_samples, for "
@@ -49,6 +49,10 @@ def _add_evaluate(sub):
                    "the peak_change baseline is always added")
     p.add_argument("--cv", type=_int_type(2, what="an integer >= 2"), default=5,
                    help="number of object-disjoint folds (default 5)")
+    p.add_argument("--groups", default="object_id", metavar="COLUMN",
+                   help="the manifest column whose values no fold splits (default object_id; e.g. family, "
+                   "so that the parts of one multi-part object stay on one side); the per-object figures "
+                   "still class each object_id")
     p.add_argument("--n-repeats", type=_int_type(1, what="an integer >= 1"), default=1,
                    help="repeat the folds with other assignments of objects to folds, at that many times "
                    "the compute (default 1): the figures depend less on one assignment; the intervals "
@@ -63,49 +67,107 @@ def _add_evaluate(sub):
     return p
 
 
+def _load(args):
+    """The dataset of ``args.dataset``: a simulator preset, or a manifest read by ``datasets``."""
+    from ..datasets import load_press_videos, make_presses
+
+    if args.dataset in _SIM_PRESETS:
+        return make_presses(args.dataset, random_state=args.seed)
+    if not os.path.exists(args.dataset):
+        raise _UsageError(f"dataset {args.dataset!r} is neither a simulator preset ({', '.join(_SIM_PRESETS)}) "
+                          "nor an existing manifest (a .csv file, or a folder holding manifest.csv)")
+    path = args.dataset
+    return load_press_videos(os.path.join(path, "manifest.csv") if os.path.isdir(path) else path)
+
+
+def _groups(data, column):
+    """The values of manifest column ``column`` per press (``object_id`` or an extra column such as family)."""
+    if column == "object_id":
+        return data.object_id
+    values = getattr(data, "metadata", {}).get(column)
+    if values is None:
+        extra = sorted(getattr(data, "metadata", {}))
+        raise _UsageError(f"--groups {column}: the dataset has no column {column!r} (its extra columns: "
+                          f"{', '.join(extra) or 'none'}; object_id is the default)")
+    if any(v in ("", None) for v in values):
+        raise _UsageError(f"--groups {column}: the column is empty on some rows; give every press its {column}")
+    return values
+
+
+def _estimators(names, force_position, roi, seed):
+    """``{name: pipeline}`` of the registry's ``names`` (the defaults where None), ``roi`` to those reading video."""
+    from .._registry import make_named_pipeline
+
+    if names is None:
+        names = list(DEFAULT_PIPELINES) + (["loading_compliance"] if force_position is not None else [])
+    return {name: make_named_pipeline(name, random_state=seed,
+                                      **({"roi": roi} if pipeline_info(name).input == "video" else {}))
+            for name in names}
+
+
+def _force_position(data, names):
+    """Each press's (T, 2) force and position where ``names`` (None: the defaults) need or can use them."""
+    from ..model_selection._force_position import force_position, presses_lacking_force_position
+
+    if names is None:
+        return None if presses_lacking_force_position(data) else force_position(data, ["loading_compliance"])
+    reads = [n for n in names if pipeline_info(n).input != "video"]
+    return force_position(data, reads) if reads else None
+
+
 def _run_evaluate(args):
-    from pathlib import Path
-
-    import numpy as np
-
     from ._header import output_header, read_header
-    from ..model_selection import evaluate_pipelines, format_evaluation, plot_confusion_matrices
+    from .._registry import make_named_pipeline
+    from ..model_selection import ConfusionMatricesDisplay, evaluate_pipelines, format_evaluation
     from ..utils._validation import check_roi
 
     _check_out_dir(args.out)
-    if args.dataset not in _SIM_PRESETS and not os.path.exists(args.dataset):
-        raise _UsageError(f"dataset {args.dataset!r} is neither a simulator preset ({', '.join(_SIM_PRESETS)}) "
-                          "nor an existing manifest (a .csv file, or a folder holding manifest.csv)")
+    data = _load(args)
     with _user_errors():
         roi = check_roi(args.roi)
+        groups = _groups(data, args.groups)
     if not args.quiet:
         repeats = f" x {args.n_repeats} repetitions" if args.n_repeats > 1 else ""
         names = "the default pipelines" if args.pipelines is None else ", ".join(args.pipelines) or "the baseline"
-        print(f"evaluating {names} on {args.dataset} "
-              f"({args.cv} object-disjoint folds{repeats}) ...", file=sys.stderr, flush=True)
+        print(f"evaluating {names} on {args.dataset} ({args.cv} folds by {args.groups}{repeats}) ...",
+              file=sys.stderr, flush=True)
     with _user_errors():
-        result = evaluate_pipelines(args.dataset, args.pipelines, cv=args.cv, n_repeats=args.n_repeats,
-                                    roi=roi, error_score=np.nan,
-                                    n_jobs=args.n_jobs, random_state=args.seed, verbose=0 if args.quiet else 1)
-    table = format_evaluation(result)
+        force_position = _force_position(data, args.pipelines)
+        estimators = _estimators(args.pipelines, force_position, roi, args.seed)
+        result = evaluate_pipelines(
+            estimators, data.videos, data.target, groups=groups, objects=data.object_id, cv=args.cv,
+            n_repeats=args.n_repeats, baseline=("peak_change", make_named_pipeline("peak_change", roi=roi)),
+            target_names=data.target_names, hardness=getattr(data, "hardness", None),
+            force_position=force_position, n_jobs=args.n_jobs, random_state=args.seed,
+            verbose=0 if args.quiet else 1)
+    _write(args, result, format_evaluation(result), ConfusionMatricesDisplay, output_header, read_header)
+    return 0
+
+
+def _write(args, result, table, display, output_header, read_header):
+    """Print the table; write it (with the cheap header), the figure and the JSON in ``args.out``."""
+    from pathlib import Path
+
     print(table)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     # what made the table: the command (less where its output goes), version, date, platform
     provenance = output_header(_reproduce_command(getattr(args, "argv", None) or sys.argv[1:]))
     (out / "evaluation.txt").write_text(provenance + "\n" + table + "\n")
-    plot_confusion_matrices(result, out / "confusion_matrices.png")
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    display.from_result(result).figure_.savefig(out / "confusion_matrices.png", dpi=100)
     rows = [{k: (list(v) if isinstance(v, tuple) else v) for k, v in r.items()} for r in result.table]
     (out / "evaluation.json").write_text(_json_text(
         {"table": rows, "fold_scores": {k: v.tolist() for k, v in result.fold_scores.items()},
          "object_fold_scores": {k: v.tolist() for k, v in result.object_fold_scores.items()},
-         "n_repeats": result.n_repeats, "notes": result.notes,
+         "n_repeats": result.n_repeats, "groups": args.groups, "notes": result.notes,
          "recommended": result.recommended, "recommended_with_samples": result.recommended_with_samples,
          "target_names": result.target_names.tolist(), "provenance": read_header(provenance)}))
     if not args.quiet:
         print(f"wrote {out / 'evaluation.txt'}, {out / 'confusion_matrices.png'} and {out / 'evaluation.json'}",
               file=sys.stderr)
-    return 0
 
 
 def _json_text(obj):

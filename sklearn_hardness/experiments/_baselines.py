@@ -58,6 +58,19 @@ def _fit_eval_run(X, y, hardness, cfg, model, n_classes, n_train, n_test, seed, 
     }
 
 
+def _cv_dataset(dataset):
+    """A dataset Bunch as evaluate loads one: itself, a manifest (or its folder), else a preset seeded 0."""
+    import os
+
+    from ..datasets import load_press_videos, make_presses
+
+    if hasattr(dataset, "videos"):
+        return dataset
+    if os.path.exists(dataset):
+        return load_press_videos(os.path.join(dataset, "manifest.csv") if os.path.isdir(dataset) else dataset)
+    return make_presses(dataset, random_state=0)
+
+
 def _check_n(value, name):
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
         raise ValueError(f"{name} must be a positive int, got {value!r}.")
@@ -126,7 +139,7 @@ def run_model_baselines(
     result : ExperimentResult or Bunch
         One record per (model, seed): ``train_accuracy``, ``accuracy``,
         ``mae``, ``train_loss``, ``train_loss_curve``, ``converged``. With
-        ``cv``: the Bunch of
+        ``cv``: the :class:`~sklearn_hardness.model_selection.EvaluationResult` of
         :func:`~sklearn_hardness.model_selection.evaluate_pipelines`.
     """
     if cv is not None:
@@ -139,7 +152,10 @@ def run_model_baselines(
             pipes = {str(n): e for n, e in models}
         if isinstance(dataset, str) and preset is not None and dataset == preset:
             dataset = preset
-        return evaluate_pipelines(dataset, pipes, cv=cv, n_jobs=n_jobs)
+        data = _cv_dataset(dataset)
+        return evaluate_pipelines(pipes, data.videos, data.target, groups=data.object_id, cv=cv,
+                                  target_names=data.target_names, hardness=getattr(data, "hardness", None),
+                                  error_score="raise", n_jobs=n_jobs, random_state=0)
     n_train = _check_n(n_train_per_class, "n_train_per_class")
     n_test = _check_n(n_test_per_class, "n_test_per_class")
     n_runs = _check_n(n_runs, "n_runs")

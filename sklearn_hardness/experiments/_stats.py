@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import stats
 
+from ..utils._intervals import _interval, format_interval
 from ._tables import render_columns
 
 __all__ = ["paired_table", "format_paired_table", "PAIRED_METRICS", "decision_stop", "presses_to_reach",
@@ -122,13 +123,21 @@ def _value(record, field, reduce):
     return float((v[:-1] + v[1:]).sum() / 2 / (len(v) - 1)) if len(v) > 1 else float(v[0])  # trapezoid rule
 
 
-def _t_interval(d, level=0.95):
-    n = d.size
-    mean = float(d.mean()) if n else float("nan")
-    if n < 2:
-        return mean, float("nan"), float("nan")
-    half = float(stats.t.ppf(0.5 + level / 2, n - 1) * d.std(ddof=1) / np.sqrt(n))
-    return mean, mean - half, mean + half
+def _bounds(name, records):
+    """The range of metric ``name`` and of a difference of it: accuracies within [0, 1], presses within the budget."""
+    if name == "presses_at_stop":
+        budget = max((len(r.get("initial_indices", [])) + sum(len(d) for d in r.get("drawn_indices", []))
+                      for r in records), default=np.inf)
+        return (0.0, float(budget)), (-float(budget), float(budget))
+    if name.startswith("mae") or name.endswith("mae"):
+        return (0.0, np.inf), (-np.inf, np.inf)
+    return (0.0, 1.0), (-1.0, 1.0)
+
+
+def _t_interval(d, level, bounds):
+    """Mean and t-interval of independent values, clipped to ``bounds`` (the package's one interval)."""
+    mean, (lo, hi) = _interval(d, 0.0, np.inf, bounds=bounds, level=level)
+    return mean, lo, hi
 
 
 def _p_values(d):
@@ -191,15 +200,16 @@ def paired_table(result, reference="random", metrics=None, level=0.95):
     for s in strategies:
         for name in metrics:
             _, field, reduce, _ = known[name]
+            bounds, diff_bounds = _bounds(name, records)
             own = {k[1:]: _value(r, field, reduce) for k, r in by.items() if k[0] == s}
             vals = np.array([v for v in own.values() if np.isfinite(v)])
-            mean, lo, hi = _t_interval(vals, level)
+            mean, lo, hi = _t_interval(vals, level, bounds)
             row = {"strategy": s, "metric": name, "n": int(vals.size), "mean": mean, "ci_low": lo,
                    "ci_high": hi}
             if s != reference:
                 ref = {k[1:]: _value(r, field, reduce) for k, r in by.items() if k[0] == reference}
                 d = np.array([own[p] - ref[p] for p in own if p in ref and np.isfinite(own[p] - ref[p])])
-                diff, dlo, dhi = _t_interval(d, level)
+                diff, dlo, dhi = _t_interval(d, level, diff_bounds)
                 p_t, p_w = _p_values(d)
                 row.update(n_pairs=int(d.size), diff=diff, diff_low=dlo, diff_high=dhi, p_ttest=p_t,
                            p_wilcoxon=p_w)
@@ -216,17 +226,25 @@ def _f(x, pct):
 
 
 def format_paired_table(rows, reference="random"):
-    """Plain-text table of :func:`paired_table` rows (accuracies in %)."""
+    """Plain-text table of :func:`paired_table` rows (accuracies in %).
+
+    An interval over fewer than 5 runs or pairs is said in words
+    (``"3 pairs: too few for an interval"``).
+    """
     head = ["strategy", "metric", "n", "mean [95% CI]", f"- {reference} [95% CI]", "p (t)", "p (Wilcoxon)"]
     lines = []
     for r in rows:
         pct = "accuracy" in r["metric"] or r["metric"] == "auc"
         if r["metric"] == "presses_at_stop":
             pct = None  # a count: one decimal
-        mean = f"{_f(r['mean'], pct)} [{_f(r['ci_low'], pct)}, {_f(r['ci_high'], pct)}]"
+        def bound(x, pct=pct):
+            return _f(x, pct)
+
+        # with fewer than MIN_VALUES_FOR_INTERVAL runs or pairs, words instead of a t-interval that says little
+        mean = f"{_f(r['mean'], pct)} {format_interval(r['ci_low'], r['ci_high'], r['n'], what='runs', fmt=bound)}"
         if "diff" in r:
-            diff = f"{'+' if r['diff'] >= 0 else ''}{_f(r['diff'], pct)} [{_f(r['diff_low'], pct)}, " \
-                   f"{_f(r['diff_high'], pct)}]"
+            diff = f"{'+' if r['diff'] >= 0 else ''}{_f(r['diff'], pct)} " \
+                   f"{format_interval(r['diff_low'], r['diff_high'], r['n_pairs'], fmt=bound)}"
             pt = "n/a" if not np.isfinite(r["p_ttest"]) else f"{r['p_ttest']:.3g}"
             pw = "n/a" if not np.isfinite(r["p_wilcoxon"]) else f"{r['p_wilcoxon']:.3g}"
             n = f"{r['n']} ({r['n_pairs']} pairs)"

@@ -18,61 +18,31 @@ import numpy as np
 from joblib import Parallel, delayed, effective_n_jobs
 from sklearn.base import BaseEstimator, clone
 from sklearn.metrics import balanced_accuracy_score, confusion_matrix
-from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import Pipeline
-from sklearn.utils import Bunch, _safe_indexing, check_random_state
-from sklearn.utils._param_validation import Interval, StrOptions, validate_params
+from sklearn.utils import _safe_indexing
+from sklearn.utils._param_validation import HasMethods, Interval, StrOptions, validate_params
 
-from .._registry import DEFAULT_PIPELINES, PIPELINE_NAMES, make_named_pipeline, pipeline_info
-from ..datasets import load_press_videos, make_presses
+from .._registry import DEFAULT_PIPELINES, PIPELINE_NAMES, make_named_pipeline
 from ..datasets._lazy import raise_unreadable
-from ..datasets._manifest import manifest_file
-from ..datasets._sim_presets import PRESETS
 from ..features import LoadingCompliance, OpticalFlowFeatures
 from ..features._loading_compliance import ConventionWarning
 from ..metrics import hardness_mae
 from ..preprocessing._contact_curve import _STATUSES
-from ..utils._random import int_seed
-from ..utils._validation import check_roi
-from ._force_position import force_position, presses_lacking_force_position
-from ._per_press import (FailingPressesError, all_columns, describe, prefix_key, split_per_press,
-                         transform_per_press)
+from ..utils._intervals import _interval
 from ..utils._progress import ProgressLog
-from ._intervals import _interval, paired_difference
+from ..utils._random import int_seed
+from ._intervals import paired_difference
+from ._per_press import FailingPressesError, all_columns, describe, prefix_key, split_per_press, transform_per_press
+from ._result import EvaluationResult
+from ._split import RepeatedStratifiedGroupKFold
 
 __all__ = ["evaluate_pipelines"]
-
-
-def _pipeline_by_name(name, seed=None, roi=None):
-    """The registry's pipeline ``name``; ``seed`` seeds the nets, ``roi`` goes to the pipelines that read video."""
-    video = pipeline_info(name).input == "video"
-    return make_named_pipeline(name, random_state=seed, **({"roi": roi} if video else {}))
 
 
 def _takes_force_position(estimator):
     """Whether ``estimator`` (or its first step) reads force and position per frame, not videos."""
     first = estimator.steps[0][1] if isinstance(estimator, Pipeline) else estimator
     return isinstance(first, LoadingCompliance)
-
-
-def _default_pipelines(data):
-    """``DEFAULT_PIPELINES``, and ``"loading_compliance"`` where every press has force and position."""
-    return list(DEFAULT_PIPELINES) + ([] if presses_lacking_force_position(data) else ["loading_compliance"])
-
-
-def _load_dataset(dataset, random_state):
-    if isinstance(dataset, Bunch) or hasattr(dataset, "videos"):
-        return dataset
-
-    if isinstance(dataset, str) and dataset in PRESETS:
-        return make_presses(dataset, random_state=random_state)
-    path = manifest_file(dataset)
-    if not path.exists():
-        raise FileNotFoundError(
-            f"dataset {str(dataset)!r} is neither a simulator preset ({sorted(PRESETS)}) nor an "
-            "existing manifest (a .csv file, or a folder holding manifest.csv)."
-        )
-    return load_press_videos(path)
 
 
 class _FailedPerPress(BaseEstimator):
@@ -239,12 +209,25 @@ def _loading_phase_note(estimator, rows, name):
     return "; ".join([text, *conventions])
 
 
-def _fit_fold(name, estimator, X, y, groups, train, test, hardness, error_score):
+def _fold_params(params, train, n_samples):
+    """``params`` for a fit on ``train``: values with one entry per press are indexed, others passed whole."""
+    return {key: (_safe_indexing(value, train) if _per_sample(value, n_samples) else value)
+            for key, value in params.items()}
+
+
+def _per_sample(value, n_samples):
+    """Whether ``value`` has one entry per press (as scikit-learn's ``cross_validate`` indexes its ``params``)."""
+    if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__len__"):
+        return False
+    return len(value) == n_samples
+
+
+def _fit_fold(name, estimator, X, y, groups, train, test, hardness, error_score, params=None):
     t0 = time.perf_counter()
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)
-            est = clone(estimator).fit(_safe_indexing(X, train), y[train])
+            est = clone(estimator).fit(_safe_indexing(X, train), y[train], **_fold_params(params or {}, train, len(y)))
             X_test = _safe_indexing(X, test)
             pred = np.asarray(est.predict(X_test))
             proba = _class_proba(est, X_test, pred, int(y.max()) + 1)
@@ -301,208 +284,131 @@ def _seconds_left(fit_seconds, n_fits, n_workers):
     return max(sum(n * t for n, t in left) / max(n_workers, 1), max(t for _, t in left)), untimed
 
 
-@validate_params(
-    {
-        "dataset": "no_validation",
-        "pipelines": [dict, list, tuple, None],
-        "cv": [Interval(numbers.Integral, 2, None, closed="left")],
-        "n_repeats": [Interval(numbers.Integral, 1, None, closed="left")],
-        "baseline": ["boolean"],
-        "roi": [None, tuple, list],
-        "error_score": [StrOptions({"raise"}), numbers.Real],
-        "n_jobs": [numbers.Integral, None],
-        "random_state": ["random_state"],
-        "verbose": ["verbose"],
-    },
-    prefer_skip_nested_validation=True,
-)
-def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=True, roi=None,
-                       error_score="raise", n_jobs=None, random_state=0, verbose=1):
-    """Object-disjoint cross-validation of press-video pipelines.
 
-    Each fold tests on objects that no training press came from
-    (:class:`~sklearn.model_selection.StratifiedGroupKFold` over
-    ``object_id``), so the score says how a pipeline does on a new object.
-    Every pipeline sees the same folds; the one-number baseline
-    (:func:`~sklearn_hardness.models.make_peak_change_baseline`) runs beside
-    them, and each pipeline's margin over it is paired by fold. Every
-    interval is corrected for the folds' overlapping training sets
-    (:func:`corrected_interval`) and clipped to the range its score can
-    take. ``recommended`` names the best pipeline whose margin's interval
-    lies above 0, or None when the one number does as well. How to read the
-    results: ``docs/user_guide/recording.rst``; whether the intervals keep
-    their level: ``studies/pages/evaluate_intervals.md``.
 
-    Parameters
-    ----------
-    dataset : Bunch, str or path
-        A dataset Bunch (``videos``, ``target``, ``target_names``,
-        ``object_id``; ``hardness`` for the MAE), the name of a simulator
-        preset (``"everyday"``, ...), or a manifest (``.csv``, or a folder
-        holding ``manifest.csv``) read with
-        :func:`~sklearn_hardness.datasets.load_press_videos`.
-    pipelines : dict, list of str or None, default=None
-        ``{name: estimator}``, or names of
-        :func:`~sklearn_hardness.models.pipeline_names` (built by
-        :func:`~sklearn_hardness.models.make_named_pipeline`;
-        ``"loading_compliance"`` reads each press's ``force`` and
-        ``position``, as does a given pipeline whose first step is a
-        :class:`~sklearn_hardness.features.LoadingCompliance`). None:
-        ``"contact_geometry"``, ``"convlstm_intensity"`` and
-        ``"contact_profile"``, and ``"loading_compliance"`` where every press
-        has force and position. The leading steps that turn each press into
-        its row by that press alone (frame selection, frozen features, the
-        peak change) run once over all presses, not once per fold, shared by
-        the pipelines that start with them: the same scores for less work.
-    cv : int, default=5
-        Number of folds. Every class needs at least ``cv`` objects.
-    n_repeats : int, default=1
-        Times the object-disjoint split is repeated with other assignments
-        of objects to folds. The means and intervals run over the
-        ``n_repeats * cv`` fold scores, with the ``cv - 1`` degrees of freedom
-        of one repetition (every repetition reuses the same objects). More
-        objects narrow the intervals; repetitions little.
-    baseline : bool, default=True
-        Add the one-number baseline as ``"peak_change"``.
-    roi : tuple (top, bottom, left, right) or None, default=None
-        The region of the frames that the baseline and the pipelines given
-        by name read (fractions of height and width): the ``roi`` of their
-        feature transformers and frame selectors. For sensors whose frame
-        shows more than the gel (a GelSight Wedge grasp shows the housing and
-        the other finger). Estimators given in a dict are left as they are.
-    error_score : "raise" or float, default="raise"
-        What a failing pipeline gives: raise, or warn and score the fold as
-        this value (e.g. ``np.nan``); the table names the error.
-    n_jobs : int or None, default=None
-        Folds run in parallel through joblib, one fit to a task.
-    random_state : int, RandomState instance or None, default=0
-        Seed of the fold assignment, of a simulated dataset and of the nets
-        of the pipelines given by name (so a run repeats exactly; pass
-        seeded estimators in a dict to control them yourself).
-    verbose : int, default=1
-        Progress on stderr: one line per finished fit with an estimate of
-        the time left. ``0`` is silent.
-
-    Returns
-    -------
-    result : :class:`~sklearn.utils.Bunch`
-        table : list of dict
-            One dict per pipeline: ``pipeline``, ``balanced_accuracy``,
-            ``vs_baseline`` (margin over the baseline, paired by fold), ``mae``,
-            ``object_balanced_accuracy`` and ``object_vs_baseline`` (scored per
-            test object, from the mean of its presses' probabilities), each
-            with a 95% interval ``*_ci`` (None where it does not apply); ``recall`` (class
-            name -> out-of-fold recall), ``fit_predict_seconds``, ``n_folds``,
-            ``n_repeats``, ``predict_proba_samples`` and ``error``.
-        fold_scores, object_fold_scores : dict of name -> ndarray of shape (n_repeats * cv,)
-            Balanced accuracy per fold, per press and per object.
-        predictions : dict of name -> ndarray of shape (n_samples,)
-            Out-of-fold predictions of the first repetition.
-        confusion : dict of name -> ndarray of shape (n_classes, n_classes)
-            Confusion matrix of the out-of-fold predictions of all repetitions.
-        recommended : str or None
-            The best pipeline whose margin's interval lies above 0; None when
-            none does or without the baseline.
-        recommended_with_samples : str or None
-            The same among pipelines with ``predict_proba_samples``.
-        notes : list of str
-            What the per-press steps found (presses without contact, lost
-            flow tracks, failed presses...) that the folds' warnings would say.
-        target, target_names, groups, folds, n_repeats, chance
-            The labels, class names, object of each press, the folds' test
-            indices, the number of repetitions and ``1 / n_classes``.
-
-    Raises
-    ------
-    ValueError
-        A class with fewer objects than ``cv``, an unknown pipeline name,
-        a dataset without ``object_id``, or ``"loading_compliance"`` without
-        force and position for every press. Also, before any fit, videos
-        that cannot be read and (with ``error_score="raise"``) presses on
-        which a pipeline's per-press steps fail, each listed.
-
-    See Also
-    --------
-    format_evaluation, plot_confusion_matrices
-
-    Examples
-    --------
-    >>> from sklearn_hardness.datasets import make_presses
-    >>> from sklearn_hardness.model_selection import evaluate_pipelines
-    >>> data = make_presses("everyday", n_per_class=2, n_objects=9, class_ratio=[1, 1, 1],
-    ...                     image_size=(32, 40), codec=None, random_state=0)
-    >>> result = evaluate_pipelines(data, pipelines=[], cv=3)
-    >>> result.table[0]["pipeline"], result.confusion["peak_change"].shape
-    ('peak_change', (3, 3))
-    """
-    roi = check_roi(roi)
-    data = _load_dataset(dataset, random_state)
-    X, y = data.videos, np.asarray(data.target)
-    groups = getattr(data, "object_id", None)
-    if groups is None:
-        raise ValueError("the dataset has no object_id: object-disjoint folds need to know which "
-                         "object each press is of (add an object_id column to the manifest).")
-    groups = np.asarray(groups)
-    if pipelines is None:
-        pipelines = _default_pipelines(data)
-    if isinstance(pipelines, dict):
-        named = {str(k): v for k, v in pipelines.items()}
-    else:
-        unknown = [p for p in pipelines if p not in PIPELINE_NAMES]
-        if unknown:
-            raise ValueError(f"unknown pipeline(s) {unknown}; choose among {list(PIPELINE_NAMES)} "
-                             "or pass a dict {name: estimator}.")
-        seed = int_seed(random_state)
-        named = {p: _pipeline_by_name(p, seed, roi) for p in pipelines}
-    if baseline and "peak_change" not in named:
-        named = {"peak_change": _pipeline_by_name("peak_change", roi=roi), **named}
+def _named_estimators(estimators, baseline, seed, force_position):
+    """``{name: estimator}`` of ``estimators`` (dict, names, pairs or None), the baseline first; its name."""
+    if estimators is None:
+        estimators = list(DEFAULT_PIPELINES) + (["loading_compliance"] if force_position is not None else [])
+    items = estimators.items() if isinstance(estimators, dict) else estimators
+    named = {}
+    for item in items:
+        if isinstance(item, str):
+            if item not in PIPELINE_NAMES:
+                raise ValueError(f"unknown pipeline {item!r}; choose among {list(PIPELINE_NAMES)} or pass "
+                                 "(name, estimator) pairs or a dict {name: estimator}.")
+            item = (item, make_named_pipeline(item, random_state=seed))
+        if not (isinstance(item, tuple) and len(item) == 2 and hasattr(item[1], "fit")):
+            raise ValueError(f"estimators must be a dict {{name: estimator}}, registry names or (name, estimator) "
+                             f"pairs; got {item!r}.")
+        named[str(item[0])] = item[1]
+    base = _baseline(baseline, seed)
+    if base is not None and base[0] not in named:
+        named = {base[0]: base[1], **named}
     if not named:
         raise ValueError("no pipelines to evaluate.")
-    names = np.asarray(data.target_names)
-    n_classes = len(names)
-    objects_per_class = [len(np.unique(groups[y == c])) for c in range(n_classes)]
-    counts = dict(zip(names.tolist(), objects_per_class))
+    return named, (None if base is None else base[0])
+
+
+def _baseline(baseline, seed):
+    """``(name, estimator)`` of ``baseline`` (a registry name, a pair or None)."""
+    if baseline is None:
+        return None
+    if isinstance(baseline, str):
+        if baseline not in PIPELINE_NAMES:
+            raise ValueError(f"unknown baseline {baseline!r}; choose among {list(PIPELINE_NAMES)} or pass a "
+                             "(name, estimator) pair.")
+        return baseline, make_named_pipeline(baseline, random_state=seed)
+    if isinstance(baseline, tuple) and len(baseline) == 2 and hasattr(baseline[1], "fit"):
+        return str(baseline[0]), baseline[1]
+    raise ValueError(f"baseline must be a registry name, a (name, estimator) pair or None; got {baseline!r}.")
+
+
+def _check_targets(X, y, groups, target_names):
+    """``y`` as class indices, the groups and the class names; errors where lengths disagree."""
+    y = np.asarray(y)
+    if len(X) != len(y):
+        raise ValueError(f"X has {len(X)} presses but y has {len(y)} labels.")
+    if target_names is None:
+        target_names, y = np.unique(y, return_inverse=True)
+    else:
+        target_names = np.asarray(target_names)
+        if not np.issubdtype(y.dtype, np.integer) or y.min() < 0 or y.max() >= len(target_names):
+            raise ValueError(f"with target_names, y must be class indices in [0, {len(target_names)}).")
+    if groups is not None:
+        groups = np.asarray(groups)
+        if len(groups) != len(y):
+            raise ValueError(f"groups has {len(groups)} entries for {len(y)} presses: give the group of each press.")
+    return y, groups, target_names
+
+
+def _check_group_counts(y, groups, target_names, cv):
+    """Errors where a class has fewer groups than folds (an integer ``cv``), saying what to do."""
+    if groups is None:
+        raise ValueError("an integer cv makes folds grouped by object: pass groups (the object of each press; "
+                         "a manifest's object_id column), or a splitter as cv.")
+    objects_per_class = [len(np.unique(groups[y == c])) for c in range(len(target_names))]
+    counts = dict(zip(np.asarray(target_names).tolist(), objects_per_class))
     if min(objects_per_class) < 2:
-        nameless = np.array_equal(groups.astype(str), names[y].astype(str))
+        nameless = np.array_equal(groups.astype(str), np.asarray(target_names)[y].astype(str))
         raise ValueError(
             f"object-disjoint folds need at least 2 objects of every class; the dataset has {counts}"
             + ("; it names no objects (a manifest without an object_id column counts every label as one "
                "object): add an object_id column saying which physical object each press is of."
-               if nameless else ": record more objects of those classes.")
-        )
-    short = [str(names[c]) for c in range(n_classes) if objects_per_class[c] < cv]
+               if nameless else ": record more objects of those classes."))
+    short = [str(target_names[c]) for c, n in enumerate(objects_per_class) if n < cv]
     if short:
         raise ValueError(f"classes {short} have fewer than cv={cv} objects ({counts}); lower cv to at most "
                          f"{min(objects_per_class)}.")
-    # one stream for all repetitions, as scikit-learn's _RepeatedSplits: the first repetition's
-    # folds are those of StratifiedGroupKFold(random_state=random_state) alone
-    rng = check_random_state(random_state)
-    folds = [fold for _ in range(n_repeats)
-             for fold in StratifiedGroupKFold(n_splits=cv, shuffle=True, random_state=rng).split(
-                 np.zeros(len(y)), y, groups)]
-    hardness = getattr(data, "hardness", None)
-    log = ProgressLog(0, desc="evaluate", verbose=verbose)  # messages; the fits get their own below
-    repeats = f" x {n_repeats} repetitions" if n_repeats > 1 else ""
-    log.write(f"{len(named)} pipeline(s) ({', '.join(named)}) x {cv} object-disjoint folds{repeats} on "
-              f"{len(y)} presses of {len(np.unique(groups))} objects")
+
+
+def _folds(cv, n_repeats, X, y, groups, target_names, random_state):
+    """The folds ``(train, test)`` of ``cv`` and the number of folds a repetition, repetitions."""
+    if isinstance(cv, numbers.Integral) and not isinstance(cv, bool):
+        if cv < 2:
+            raise ValueError(f"cv must be at least 2, got {cv}.")
+        _check_group_counts(y, groups, target_names, cv)
+        cv = RepeatedStratifiedGroupKFold(n_splits=cv, n_repeats=n_repeats, random_state=random_state)
+    elif not hasattr(cv, "split"):
+        raise ValueError(f"cv must be an integer or a splitter with split(X, y, groups); got {cv!r}.")
+    folds = [(np.asarray(train), np.asarray(test)) for train, test in cv.split(np.zeros(len(y)), y, groups)]
+    repeats = int(getattr(cv, "n_repeats", 1))
+    if groups is not None and any(set(groups[train]) & set(groups[test]) for train, test in folds):
+        warnings.warn("cv puts presses of one group on both sides of a fold: the scores are not those of new "
+                      "objects. Use a group-aware splitter (GroupKFold, StratifiedGroupKFold) or an integer cv.",
+                      UserWarning, stacklevel=3)
+    return folds, max(len(folds) // repeats, 1), repeats
+
+
+def _prepare_inputs(named, X, force_position, n_jobs, log, error_score):
+    """Each pipeline's input, estimator to fit per fold, seconds of its one pass, and the notes."""
     reads_force = [name for name, est in named.items() if _takes_force_position(est)]
-    force_position_rows = force_position(data, reads_force) if reads_force else None
+    if reads_force and force_position is None:
+        raise ValueError(f"pipeline(s) {reads_force} read each press's force and position per frame: pass "
+                         "force_position, one (T, 2) array of force and position per press.")
+    keys = getattr(X, "keys", None)
+    paths = keys if isinstance(keys, list) and keys and all(isinstance(k, str) for k in keys) else None
     inputs, rests, seconds_once, notes = _per_press_inputs(
-        {name: est for name, est in named.items() if name not in reads_force}, X, n_jobs, log, error_score,
-        getattr(data, "paths", None))
+        {name: est for name, est in named.items() if name not in reads_force}, X, n_jobs, log, error_score, paths)
     for name in reads_force:
-        inputs[name], rests[name], seconds_once[name] = force_position_rows, named[name], 0.0
-        note = _loading_phase_note(named[name], force_position_rows, name)
+        inputs[name], rests[name], seconds_once[name] = force_position, named[name], 0.0
+        note = _loading_phase_note(named[name], force_position, name)
         if note is not None:
             notes.append(note)
             log.write(note)
+    return inputs, rests, seconds_once, notes
+
+
+def _run_folds(named, rests, inputs, y, objects, folds, hardness, error_score, params, n_jobs, verbose):
+    """Every (pipeline, fold) fit's outcome, by pipeline, in the folds' order."""
     # fold by fold, so that each pipeline's first fit ends early and times the rest of its fits
-    jobs = [(name, rests[name], k) for k in range(len(folds)) for name in named]
+    jobs = [(name, k) for k in range(len(folds)) for name in named]
     progress = ProgressLog(len(jobs), desc="evaluate", verbose=verbose, unit="fits")
     fit_seconds, n_workers = {name: [] for name in named}, effective_n_jobs(n_jobs)
     outs = [None] * len(jobs)
-    calls = (delayed(_indexed)(j, _fit_fold, name, est, inputs[name], y, groups, folds[k][0], folds[k][1],
-                               hardness, error_score) for j, (name, est, k) in enumerate(jobs))
+    calls = (delayed(_indexed)(j, _fit_fold, name, rests[name], inputs[name], y, objects, folds[k][0],
+                               folds[k][1], hardness, error_score, params.get(name))
+             for j, (name, k) in enumerate(jobs))
     # one fit a batch: joblib's automatic batching, timed on the quick fits of the baseline, would
     # otherwise queue several slow fits (a net's) in one batch on one worker while the others wait
     for j, out in Parallel(n_jobs=n_jobs, return_as="generator_unordered", batch_size=1)(calls):
@@ -510,52 +416,50 @@ def evaluate_pipelines(dataset, pipelines=None, *, cv=5, n_repeats=1, baseline=T
         fit_seconds[jobs[j][0]].append(out["time"])
         seconds, untimed = _seconds_left(fit_seconds, len(folds), n_workers)
         progress.update(1, seconds, f"not counting {', '.join(untimed)} (no fit finished yet)" if untimed else None)
-    test_train_ratio = float(np.mean([len(test) / len(train) for train, test in folds]))
-    table, fold_scores, object_fold_scores, predictions, confusion = [], {}, {}, {}, {}
-    for name in named:
-        rows = [o for (n, _, _), o in zip(jobs, outs) if n == name]
-        errors = sorted({o["error"] for o in rows if o["error"]})
-        pred = np.full((n_repeats, len(y)), -1)
-        for k, ((train, test), o) in enumerate(zip(folds, rows)):
-            if o["pred"] is not None:
-                pred[k // cv, test] = o["pred"]
-        scores = np.array([o.get("balanced_accuracy", error_score) for o in rows], dtype=float)
-        ba, ba_ci = _interval(scores, test_train_ratio, cv - 1, bounds=(0.0, 1.0))
-        maes = [o.get("mae") for o in rows]
-        mae, mae_ci = (None, None) if hardness is None else _interval(maes, test_train_ratio, cv - 1,
+    return {name: [o for (n, _), o in zip(jobs, outs) if n == name] for name in named}
+
+
+def _row(name, rows, estimator, y, folds, n_splits, n_repeats, hardness, error_score, seconds_once, n_classes):
+    """The table's row of one pipeline (without its margin), its fold scores and out-of-fold predictions."""
+    ratio, df = float(np.mean([len(test) / len(train) for train, test in folds])), n_splits - 1
+    pred = np.full((n_repeats, len(y)), -1)
+    for k, ((_, test), o) in enumerate(zip(folds, rows)):
+        if o["pred"] is not None:
+            pred[min(k // n_splits, n_repeats - 1), test] = o["pred"]
+    scores = np.array([o.get("balanced_accuracy", error_score) for o in rows], dtype=float)
+    object_scores = np.array([o.get("object_balanced_accuracy", error_score) for o in rows], dtype=float)
+    ba, ba_ci = _interval(scores, ratio, df, bounds=(0.0, 1.0))
+    object_ba, object_ba_ci = _interval(object_scores, ratio, df, bounds=(0.0, 1.0))
+    mae, mae_ci = (None, None) if hardness is None else _interval([o.get("mae") for o in rows], ratio, df,
                                                                   bounds=(0.0, np.inf))
-        fold_scores[name], predictions[name] = scores, pred[0]
-        object_fold_scores[name] = np.array([o.get("object_balanced_accuracy", error_score) for o in rows],
-                                            dtype=float)
-        object_ba, object_ba_ci = _interval(object_fold_scores[name], test_train_ratio, cv - 1, bounds=(0.0, 1.0))
-        ok = pred >= 0
-        confusion[name] = (confusion_matrix(np.broadcast_to(y, pred.shape)[ok], pred[ok],
-                                            labels=np.arange(n_classes)) if ok.any()
-                           else np.zeros((n_classes, n_classes), dtype=int))
-        support = confusion[name].sum(axis=1)
-        recall = {str(names[c]): (float(confusion[name][c, c] / support[c]) if support[c] else None)
-                  for c in range(n_classes)}
-        table.append(dict(pipeline=name, balanced_accuracy=ba, balanced_accuracy_ci=ba_ci, mae=mae,
-                          mae_ci=mae_ci, recall=recall, object_balanced_accuracy=object_ba,
-                          object_balanced_accuracy_ci=object_ba_ci,
-                          fit_predict_seconds=seconds_once[name] + float(sum(o["time"] for o in rows)),
-                          n_folds=cv, n_repeats=n_repeats,
-                          predict_proba_samples=hasattr(named[name], "predict_proba_samples"),
-                          error="; ".join(errors) or None))
-    base, object_base = fold_scores.get("peak_change"), object_fold_scores.get("peak_change")
+    ok = pred >= 0
+    confusion = (confusion_matrix(np.broadcast_to(y, pred.shape)[ok], pred[ok], labels=np.arange(n_classes))
+                 if ok.any() else np.zeros((n_classes, n_classes), dtype=int))
+    errors = sorted({o["error"] for o in rows if o["error"]})
+    row = dict(pipeline=name, balanced_accuracy=ba, balanced_accuracy_ci=ba_ci, mae=mae, mae_ci=mae_ci,
+               object_balanced_accuracy=object_ba, object_balanced_accuracy_ci=object_ba_ci,
+               fit_predict_seconds=seconds_once + float(sum(o["time"] for o in rows)), n_folds=n_splits,
+               n_repeats=n_repeats, predict_proba_samples=hasattr(estimator, "predict_proba_samples"),
+               error="; ".join(errors) or None)
+    return row, scores, object_scores, pred[0], confusion
+
+
+def _add_margins(table, fold_scores, object_fold_scores, baseline, folds, df):
+    """Each row's margin over the baseline, paired by fold, with its corrected interval (None for the baseline)."""
+    ratio = float(np.mean([len(test) / len(train) for train, test in folds]))
+    base, object_base = fold_scores.get(baseline), object_fold_scores.get(baseline)
     for row in table:
-        own = row["pipeline"] == "peak_change"
+        own = row["pipeline"] == baseline
         row["vs_baseline"], row["vs_baseline_ci"] = paired_difference(
-            fold_scores[row["pipeline"]], None if own else base, test_train_ratio, cv - 1)
+            fold_scores[row["pipeline"]], None if own else base, ratio, df)
         row["object_vs_baseline"], row["object_vs_baseline_ci"] = paired_difference(
-            object_fold_scores[row["pipeline"]], None if own else object_base, test_train_ratio, cv - 1)
-    recommended, with_samples = _recommend(table)
-    return Bunch(table=table, fold_scores=fold_scores, object_fold_scores=object_fold_scores,
-                 predictions=predictions, confusion=confusion,
-                 recommended=recommended, recommended_with_samples=with_samples,
-                 target=y, target_names=names, groups=groups, folds=[test for _, test in folds],
-                 n_repeats=n_repeats, chance=1.0 / n_classes, hardness_unit=getattr(data, "hardness_unit", None),
-                 notes=notes)
+            object_fold_scores[row["pipeline"]], None if own else object_base, ratio, df)
+
+
+def _recall(confusion, target_names):
+    """Out-of-fold recall of each class (None for a class without presses)."""
+    support = confusion.sum(axis=1)
+    return {str(n): (float(confusion[c, c] / support[c]) if support[c] else None) for c, n in enumerate(target_names)}
 
 
 def _recommend(table):
@@ -567,3 +471,163 @@ def _recommend(table):
     return (None if best is None else best["pipeline"]), (None if sampled is None else sampled["pipeline"])
 
 
+@validate_params(
+    {
+        "estimators": [dict, list, tuple, None],
+        "X": "no_validation",
+        "y": ["array-like"],
+        "groups": ["array-like", None],
+        "cv": [Interval(numbers.Integral, 2, None, closed="left"), HasMethods(["split"])],
+        "n_repeats": [Interval(numbers.Integral, 1, None, closed="left")],
+        "baseline": [str, tuple, None],
+        "target_names": ["array-like", None],
+        "objects": ["array-like", None],
+        "hardness": ["array-like", None],
+        "force_position": [list, tuple, None],
+        "params": [dict, None],
+        "error_score": [StrOptions({"raise"}), numbers.Real],
+        "n_jobs": [numbers.Integral, None],
+        "random_state": ["random_state"],
+        "verbose": ["verbose"],
+    },
+    prefer_skip_nested_validation=True,
+)
+def evaluate_pipelines(estimators, X, y, *, groups=None, cv=5, n_repeats=1, baseline="peak_change",
+                       target_names=None, objects=None, hardness=None, force_position=None, params=None,
+                       error_score=np.nan, n_jobs=None, random_state=None, verbose=0):
+    """Cross-validate press pipelines on the same group-disjoint folds, each beside a baseline.
+
+    Shaped like :func:`sklearn.model_selection.cross_validate`, for several
+    estimators at once: every pipeline sees the same folds, and its margin
+    over the baseline (the one-number pipeline ``"peak_change"``,
+    :func:`~sklearn_hardness.models.make_peak_change_baseline`) is paired by
+    fold. An integer ``cv`` makes folds that keep every group's presses
+    together (:class:`RepeatedStratifiedGroupKFold`), so the scores say how
+    a pipeline does on new objects. Every interval is corrected for the
+    folds' overlapping training sets (:func:`corrected_interval`) and
+    clipped to the range its score can take. ``recommended`` names the best
+    pipeline whose margin's interval lies above 0, or None when the
+    baseline does as well. The leading steps that turn each press into its
+    row by that press alone (frame selection, frozen features, the peak
+    change) run once over all presses, not once per fold, shared by the
+    pipelines that start with them: the same scores for less work. How to
+    read the results: ``docs/user_guide/recording.rst``.
+
+    Parameters
+    ----------
+    estimators : dict, list or None
+        ``{name: estimator}``, a list of registry names
+        (:func:`~sklearn_hardness.models.pipeline_names`, built by
+        :func:`~sklearn_hardness.models.make_named_pipeline` seeded by
+        ``random_state``) or ``(name, estimator)`` pairs. None: the default
+        pipelines (``DEFAULT_PIPELINES``), and ``"loading_compliance"``
+        where ``force_position`` is given.
+    X : sequence of videos
+        One press per entry: a list of ``(T, H, W, 3)`` arrays or a lazy
+        sequence (a dataset's ``videos``).
+    y : array-like of shape (n_presses,)
+        Labels: class indices into ``target_names``, or any labels (then
+        encoded as indices of their sorted unique values).
+    groups : array-like of shape (n_presses,) or None, default=None
+        The group of each press (its object, or its family of objects):
+        no group is on both sides of a fold. Needed with an integer ``cv``.
+    cv : int or splitter, default=5
+        Folds per repetition (stratified, group-disjoint), or any
+        scikit-learn splitter (anything with ``split(X, y, groups)``, e.g.
+        :class:`~sklearn.model_selection.GroupKFold`).
+    n_repeats : int, default=1
+        With an integer ``cv``: repetitions with other assignments of groups
+        to folds. The means and intervals run over all folds, with the
+        ``cv - 1`` degrees of freedom of one repetition. A splitter's own
+        ``n_repeats`` attribute counts the same way.
+    baseline : str, (name, estimator) or None, default="peak_change"
+        The pipeline every other one is paired with (a registry name or a
+        pair); added first where ``estimators`` lack it. None: no margins.
+    target_names : array-like of shape (n_classes,) or None, default=None
+        Class names, with ``y`` as indices into them.
+    objects : array-like of shape (n_presses,) or None, default=None
+        The object of each press, for the per-object scores (each test
+        object classed by the mean of its presses' probabilities). None:
+        ``groups``, or each press by itself.
+    hardness : array-like of shape (n_classes,) or None, default=None
+        The hardness of each class (a dataset's ``hardness``), for the
+        hardness MAE of the predictions.
+    force_position : list of ndarray of shape (T, 2) or None, default=None
+        Each press's force and position per frame: the input of the
+        pipelines whose first step is a
+        :class:`~sklearn_hardness.features.LoadingCompliance`.
+    params : dict of str to dict or None, default=None
+        Fit parameters per pipeline name, as ``cross_validate``'s ``params``:
+        values with one entry per press are indexed to each fold's training
+        presses. E.g. ``{"grid": {"groups": object_id}}`` gives a
+        :class:`~sklearn.model_selection.GridSearchCV` named ``"grid"`` the
+        training fold's groups, for nested selection.
+    error_score : "raise" or float, default=np.nan
+        What a failing fit gives: raise, or warn and score the fold as this
+        value; the table names the error.
+    n_jobs : int or None, default=None
+        Fits run in parallel through joblib, one fit to a task.
+    random_state : int, RandomState instance or None, default=None
+        Seed of an integer ``cv``'s fold assignment and of the pipelines
+        given by name.
+    verbose : int, default=0
+        Progress on stderr: one line per finished fit with an estimate of
+        the time left.
+
+    Returns
+    -------
+    result : EvaluationResult
+        ``summary`` (one row per pipeline), per-fold scores, out-of-fold
+        predictions, confusion matrices, paired differences against the
+        baseline and the recommendation.
+
+    Raises
+    ------
+    ValueError
+        A class with fewer groups than an integer ``cv``, an unknown
+        pipeline name, lengths that disagree, or a force/position pipeline
+        without ``force_position``. Also, before any fit, videos that cannot
+        be read and (with ``error_score="raise"``) presses on which a
+        pipeline's per-press steps fail, each listed.
+
+    See Also
+    --------
+    format_evaluation, ConfusionMatricesDisplay
+
+    Examples
+    --------
+    >>> from sklearn.model_selection import GroupKFold
+    >>> from sklearn_hardness.datasets import make_presses
+    >>> from sklearn_hardness.model_selection import evaluate_pipelines
+    >>> data = make_presses("everyday", n_per_class=2, n_objects=9, class_ratio=[1, 1, 1],
+    ...                     image_size=(32, 40), codec=None, random_state=0)
+    >>> result = evaluate_pipelines([], data.videos, data.target, groups=data.object_id,
+    ...                             cv=GroupKFold(3), target_names=data.target_names)
+    >>> result.summary["pipeline"], result.confusion["peak_change"].shape
+    (['peak_change'], (3, 3))
+    """
+    seed = int_seed(random_state)
+    named, base = _named_estimators(estimators, baseline, seed, force_position)
+    y, groups, target_names = _check_targets(X, y, groups, target_names)
+    objects = np.asarray(objects) if objects is not None else groups if groups is not None else np.arange(len(y))
+    folds, n_splits, n_repeats = _folds(cv, n_repeats, X, y, groups, target_names, random_state)
+    log = ProgressLog(0, desc="evaluate", verbose=verbose)  # messages; the fits get their own below
+    log.write(f"{len(named)} pipeline(s) ({', '.join(named)}) x {len(folds)} folds on {len(y)} presses of "
+              f"{len(np.unique(objects))} objects")
+    inputs, rests, seconds_once, notes = _prepare_inputs(named, X, force_position, n_jobs, log, error_score)
+    hardness = None if hardness is None else np.asarray(hardness, dtype=float)
+    outs = _run_folds(named, rests, inputs, y, objects, folds, hardness, error_score, params or {}, n_jobs, verbose)
+    table, fold_scores, object_fold_scores, predictions, confusion = [], {}, {}, {}, {}
+    for name in named:
+        row, fold_scores[name], object_fold_scores[name], predictions[name], confusion[name] = _row(
+            name, outs[name], named[name], y, folds, n_splits, n_repeats, hardness, error_score,
+            seconds_once[name], len(target_names))
+        row["recall"] = _recall(confusion[name], target_names)
+        table.append(row)
+    _add_margins(table, fold_scores, object_fold_scores, base, folds, n_splits - 1)
+    recommended, with_samples = _recommend(table)
+    return EvaluationResult(table=table, fold_scores=fold_scores, object_fold_scores=object_fold_scores,
+                            predictions=predictions, confusion=confusion, recommended=recommended,
+                            recommended_with_samples=with_samples, baseline=base, notes=notes, target=y,
+                            target_names=target_names, groups=objects, folds=[test for _, test in folds],
+                            n_repeats=n_repeats)

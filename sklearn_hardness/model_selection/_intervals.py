@@ -1,12 +1,22 @@
-"""Confidence intervals of cross-validated scores, corrected for the folds' overlapping training sets."""
+"""Confidence intervals of cross-validated scores and of paired differences: the package's one t-interval.
+
+Every interval the package prints comes from ``sklearn_hardness.utils._intervals``: the
+evaluation's fold scores (corrected for the folds' overlapping training
+sets) and the experiments' paired comparisons of runs (no correction:
+``test_train_ratio=0``). Each is clipped to the range its quantity can take
+(an accuracy within [0, 1], a difference of accuracies within [-1, 1],
+presses within the budget), and the tables say in words when
+too few values stand behind it.
+"""
 
 from __future__ import annotations
 
 import numbers
 
 import numpy as np
-from scipy import stats
 from sklearn.utils._param_validation import Interval, validate_params
+
+from ..utils._intervals import _interval
 
 __all__ = ["corrected_interval"]
 
@@ -18,11 +28,11 @@ __all__ = ["corrected_interval"]
         "baseline": ["array-like", None],
         "df": [Interval(numbers.Integral, 1, None, closed="left"), None],
         "bounds": [tuple, None],
-        "confidence": [Interval(numbers.Real, 0, 1, closed="neither")],
+        "level": [Interval(numbers.Real, 0, 1, closed="neither")],
     },
     prefer_skip_nested_validation=True,
 )
-def corrected_interval(scores, test_train_ratio, *, baseline=None, df=None, bounds=None, confidence=0.95):
+def corrected_interval(scores, test_train_ratio=0.0, *, baseline=None, df=None, bounds=None, level=0.95):
     """Mean of fold scores and its t-interval, corrected for overlapping training sets.
 
     The folds of a cross-validation share most of their training presses,
@@ -32,15 +42,18 @@ def corrected_interval(scores, test_train_ratio, *, baseline=None, df=None, boun
     of ``var(scores, ddof=1) / n`` (as in scikit-learn's example
     "Statistical comparison of models using grid search"). With
     ``baseline``, the interval is that of the paired difference
-    ``scores - baseline`` (the same folds). See ``docs/user_guide/recording.rst``;
-    evidence that it keeps its level: ``studies/pages/evaluate_intervals.md``.
+    ``scores - baseline`` (the same folds). ``test_train_ratio=0`` gives
+    the plain t-interval of independent values (paired runs). See
+    ``docs/user_guide/recording.rst``; evidence that it keeps its level:
+    ``studies/pages/evaluate_intervals.md``.
 
     Parameters
     ----------
     scores : array-like of shape (n_folds,)
         One score per fold; non-finite scores (a failed fold) are left out.
-    test_train_ratio : float
-        ``n_test / n_train`` of the folds (their mean).
+    test_train_ratio : float, default=0.0
+        ``n_test / n_train`` of the folds (their mean); 0 for independent
+        values.
     baseline : array-like of shape (n_folds,) or None, default=None
         Another pipeline's scores on the same folds: the interval is then
         that of the difference.
@@ -49,9 +62,11 @@ def corrected_interval(scores, test_train_ratio, *, baseline=None, df=None, boun
         scores, or ``df`` where fewer (repeated folds: those of one
         repetition).
     bounds : (float, float) or None, default=None
-        The range the score can take; the interval is clipped to it (a
-        symmetric t-interval can reach past a bound). None: unbounded.
-    confidence : float in (0, 1), default=0.95
+        The range the score (or the difference) can take; the mean and the
+        interval are clipped to it (a symmetric t-interval can reach past a
+        bound). None: unbounded.
+    level : float in (0, 1), default=0.95
+        Confidence level.
 
     Returns
     -------
@@ -59,7 +74,9 @@ def corrected_interval(scores, test_train_ratio, *, baseline=None, df=None, boun
         Mean of the finite scores (or differences).
     interval : (float, float)
         ``(nan, nan)`` with fewer than two finite values: one fold carries
-        no interval.
+        no interval. With fewer than ``MIN_VALUES_FOR_INTERVAL`` (5) degrees
+        of freedom + 1 the interval is computed but :func:`format_interval`
+        prints words instead.
 
     Examples
     --------
@@ -75,21 +92,7 @@ def corrected_interval(scores, test_train_ratio, *, baseline=None, df=None, boun
             raise ValueError(f"baseline has {base.size} scores, scores {values.size}: they must be of the same folds.")
         values = values - base
     lo, hi = (-np.inf, np.inf) if bounds is None else bounds
-    return _interval(values, test_train_ratio, np.inf if df is None else df, bounds=(lo, hi),
-                     confidence=confidence)
-
-
-def _interval(values, test_train_ratio, df, *, bounds, confidence=0.95):
-    """:func:`corrected_interval` without validation: the evaluation's own calls."""
-    values = np.asarray([v for v in values if v is not None and np.isfinite(v)], dtype=float)
-    if len(values) < 2:
-        m = float(values.mean()) if len(values) else float("nan")
-        return m, (float("nan"), float("nan"))
-    m = float(values.mean())
-    t = stats.t.ppf(0.5 + confidence / 2, min(df, len(values) - 1))
-    half = float(t * np.sqrt(values.var(ddof=1) * (1.0 / len(values) + test_train_ratio)))
-    lo, hi = bounds
-    return m, (float(max(m - half, lo)), float(min(m + half, hi)))
+    return _interval(values, test_train_ratio, np.inf if df is None else df, bounds=(lo, hi), level=level)
 
 
 def paired_difference(scores, base, test_train_ratio, df):

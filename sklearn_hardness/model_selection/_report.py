@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..utils._intervals import MIN_VALUES_FOR_INTERVAL, format_interval
+
 __all__ = ["format_evaluation"]
 
 
@@ -12,7 +14,7 @@ def format_evaluation(result):
 
     Parameters
     ----------
-    result : Bunch
+    result : EvaluationResult
         What :func:`evaluate_pipelines` returned.
 
     Returns
@@ -24,6 +26,8 @@ def format_evaluation(result):
         some object has several presses), each pipeline's recall per class,
         the notes on the presses (``notes``: contact found, the optical
         flow's corners, loading phases missing) and the recommendation.
+        With fewer than 5 folds a repetition, the intervals are said in
+        words (``"3 folds: too few for an interval"``) instead.
     """
     n_folds = result.table[0]["n_folds"] if result.table else 0
     n_repeats = getattr(result, "n_repeats", 1)
@@ -31,6 +35,9 @@ def format_evaluation(result):
     lines = [f"object-disjoint {n_folds}-fold CV{repeats}, {len(np.unique(result.groups))} objects, "
              f"{len(result.target)} presses, chance {result.chance:.2f}; 95% t-intervals corrected for the "
              "folds' overlapping training sets (Nadeau-Bengio), clipped to the score's range"]
+    if n_folds < MIN_VALUES_FOR_INTERVAL:
+        lines.append(format_interval(np.nan, np.nan, n_folds, what="folds")
+                     + f" (at least {MIN_VALUES_FOR_INTERVAL} a repetition); the table gives the means alone")
     width = max([16] + [len(str(r["pipeline"])) for r in result.table])  # long names keep the columns
     lines.append(f"{'pipeline':<{width}} {'bal. accuracy [95% CI]':<24} {'MAE':>6} {'vs peak [95% CI]':>22} "
                  f"{'time s':>8}")
@@ -66,7 +73,8 @@ def _object_lines(result, width):
 def _score_cells(row, width, prefix=""):
     """The pipeline's name and its balanced accuracy with the 95% interval (``prefix``: ``"object_"`` per object)."""
     lo, hi = row[f"{prefix}balanced_accuracy_ci"]
-    return f"{row['pipeline']:<{width}} {row[f'{prefix}balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]{'':<7}"
+    interval = "" if row["n_folds"] < MIN_VALUES_FOR_INTERVAL else format_interval(lo, hi, row["n_folds"])
+    return f"{row['pipeline']:<{width}} {row[f'{prefix}balanced_accuracy']:.2f} {interval:<19}"
 
 
 def _margin_cell(row, prefix=""):
@@ -74,7 +82,9 @@ def _margin_cell(row, prefix=""):
     delta = ""
     if row.get(f"{prefix}vs_baseline") is not None:
         d_lo, d_hi = row[f"{prefix}vs_baseline_ci"]
-        delta = f"{row[f'{prefix}vs_baseline']:+.2f} [{d_lo:+.2f}, {d_hi:+.2f}]"
+        interval = ("" if row["n_folds"] < MIN_VALUES_FOR_INTERVAL
+                    else format_interval(d_lo, d_hi, row["n_folds"], fmt="{:+.2f}"))
+        delta = f"{row[f'{prefix}vs_baseline']:+.2f} {interval}".rstrip()
     return f"{delta:>22}"
 
 
