@@ -6,7 +6,8 @@ import numbers
 
 import numpy as np
 from scipy import stats
-from sklearn.utils._param_validation import Interval, validate_params
+
+from ..utils._param_validation import Interval, validate_params
 
 __all__ = ["corrected_interval"]
 
