@@ -7,8 +7,6 @@ from sklearn.exceptions import NotFittedError
 from sklearn.pipeline import Pipeline, make_pipeline
 from sklearn.preprocessing import StandardScaler
 
-from sklearn.utils._param_validation import InvalidParameterError
-
 from sklearn_hardness.active import (
     ActiveLearner,
     PressOracle,
@@ -19,6 +17,7 @@ from sklearn_hardness.active import (
 )
 from sklearn_hardness.active._rows import concat_rows as _concat_rows
 from sklearn_hardness.metrics import hardness_mae
+from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 from ._active_net import MCDropoutNet, make_blobs, make_net
 

@@ -14,7 +14,6 @@ from modAL.models import ActiveLearner as ModalLearner
 from sklearn.linear_model import LogisticRegression
 from sklearn.pipeline import Pipeline, make_pipeline
 from sklearn.preprocessing import StandardScaler
-from sklearn.utils._param_validation import InvalidParameterError
 
 from sklearn_hardness.active import (
     as_modal_strategy,
@@ -25,6 +24,7 @@ from sklearn_hardness.active import (
     random_sampling,
     variance_sampling,
 )
+from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 from ._active_net import MCDropoutNet, make_blobs, make_net
 

@@ -2,9 +2,9 @@
 
 import numpy as np
 import pytest
-from sklearn.utils._param_validation import InvalidParameterError
 
 from sklearn_hardness.active import PressOracle
+from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 
 def _pool(n_per_class=(4, 3, 5)):

@@ -2,9 +2,9 @@
 
 import numpy as np
 import pytest
-from sklearn.utils._param_validation import InvalidParameterError
 
 from sklearn_hardness.active import ActiveLearner, PressOracle
+from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 from ._active_net import CentroidMC, make_blobs, make_net
 

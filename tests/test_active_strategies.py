@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-from sklearn.utils._param_validation import InvalidParameterError
 
 from sklearn_hardness.active import (
     bald_sampling,
@@ -16,6 +15,7 @@ from sklearn_hardness.active import (
     variance_sampling,
 )
 from sklearn_hardness.active._strategies import get_strategy
+from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 from ._active_net import make_blobs, make_net
 

@@ -3,9 +3,8 @@
 import numpy as np
 import pytest
 
-from sklearn.utils._param_validation import InvalidParameterError
-
 from sklearn_hardness.active import class_uncertainty, variance_decomposition
+from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 KINDS = ["entropy", "variance", "bald"]
 

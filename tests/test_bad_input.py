@@ -14,7 +14,6 @@ import warnings
 import numpy as np
 import pytest
 from sklearn.exceptions import NotFittedError
-from sklearn.utils._param_validation import InvalidParameterError
 
 from sklearn_hardness.active import ActiveLearner, PressOracle, class_uncertainty
 from sklearn_hardness.active._strategies import get_strategy
@@ -26,6 +25,7 @@ from sklearn_hardness.metrics import hardness_mae, make_hardness_mae_scorer
 from sklearn_hardness.models import ConvLSTMClassifier, OFNNClassifier
 from sklearn_hardness.models._pipelines import FrameScaler
 from sklearn_hardness.preprocessing import ContactFrameSelector
+from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 from ._synthetic import synthetic_press
 
@@ -376,27 +376,97 @@ def test_results_record_with_a_malformed_key_names_the_line(tmp_path):
     assert results.read_text() == text
 
 
-def test_scikit_learn_private_validation_api_is_pinned_and_present():
-    """Policy: the constraint classes come from scikit-learn's private ``_param_validation``, so the
-    dependency has an upper bound below the next untested minor release, and every name we import
-    from it exists in the installed scikit-learn with the behaviour we rely on."""
-    import ast
+def test_parameter_validation_is_the_package_s_own_and_scikit_learn_is_not_capped():
+    """Policy: every constraint table and validation decorator of the package comes from its own
+    vendored copy of scikit-learn's parameter validation (``sklearn_hardness/utils/_param_validation.py``;
+    tests/test_package_boundary.py checks that nothing imports scikit-learn's private modules), so
+    scikit-learn has a floor and no upper bound, and our constraints raise our
+    ``InvalidParameterError`` (a ValueError and a TypeError) in scikit-learn's message format."""
+    import importlib
+    import inspect
     import pathlib
+    import pkgutil
     import re
 
-    import sklearn
-    import sklearn.utils._param_validation as pv
-    from packaging.specifiers import SpecifierSet  # a dependency of pytest
+    from packaging.requirements import Requirement  # a dependency of pytest
+
+    import sklearn_hardness
+    from sklearn_hardness.utils import _param_validation as pv
 
     root = pathlib.Path(__file__).resolve().parents[1]
-    spec = SpecifierSet(re.search(r'"scikit-learn([^"]*)"', (root / "pyproject.toml").read_text()).group(1))
-    assert any(s.operator == "<" for s in spec), "scikit-learn needs an upper bound"
-    assert sklearn.__version__ in spec
-    used = set()
-    for path in (root / "sklearn_hardness").rglob("*.py"):
-        for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.ImportFrom) and node.module == "sklearn.utils._param_validation":
-                used.update(alias.name for alias in node.names)
-    assert {"Interval", "StrOptions", "validate_params"} <= used
-    assert [name for name in sorted(used) if not hasattr(pv, name)] == []
+    spec = Requirement(re.search(r'"(scikit-learn[^"]*)"', (root / "pyproject.toml").read_text()).group(1)).specifier
+    assert {s.operator for s in spec} == {">="}, f"scikit-learn needs a floor only, got {spec}"
     assert issubclass(pv.InvalidParameterError, ValueError) and issubclass(pv.InvalidParameterError, TypeError)
+
+    # every table of the package is made of constraints our make_constraint takes
+    from .test_import_boundaries import PRIVATE_THIRD_PARTY_ALLOWED
+
+    # modules that another change rewrites still build their tables from scikit-learn's classes
+    still_private = {path[:-3].replace("/", ".") for path, _ in PRIVATE_THIRD_PARTY_ALLOWED}
+    tables = {}
+    for info in pkgutil.walk_packages(sklearn_hardness.__path__, "sklearn_hardness."):
+        if info.name.endswith(".__main__") or info.name in still_private:  # __main__ runs the CLI
+            continue
+        module = importlib.import_module(info.name)
+        for name, obj in vars(module).items():
+            if getattr(obj, "__module__", None) != module.__name__:
+                continue
+            if inspect.isclass(obj):
+                for attr, table in vars(obj).items():
+                    if attr.endswith("_constraints") and isinstance(table, dict):
+                        tables[f"{module.__name__}.{name}.{attr}"] = table
+            elif callable(obj) and isinstance(getattr(obj, "_skl_parameter_constraints", None), dict):
+                tables[f"{module.__name__}.{name}"] = obj._skl_parameter_constraints
+    assert len(tables) > 30, sorted(tables)
+    for where, table in tables.items():
+        for param, constraints in table.items():
+            if constraints == "no_validation":
+                continue
+            for constraint in constraints:
+                assert isinstance(pv.make_constraint(constraint), pv._Constraint), (where, param, constraint)
+
+    with pytest.raises(
+        pv.InvalidParameterError,
+        match=r"^The 'n_features' parameter of OpticalFlowFeatures must be an int in the range \[1, inf\)\. Got 0 instead\.$",
+    ):
+        OpticalFlowFeatures(n_features=0).fit(_FRAMES)
+
+
+def test_fit_context_validates_skips_and_nests_like_scikit_learn_s():
+    """``fit_context`` (our ``sklearn.base._fit_context``) honours the public
+    ``skip_parameter_validation`` setting, sets it for nested calls, and validates a
+    ``partial_fit`` only until the estimator is fitted."""
+    from numbers import Integral
+
+    import sklearn
+    from sklearn.base import BaseEstimator
+
+    from sklearn_hardness.utils._param_validation import Interval, fit_context
+
+    class Stub(BaseEstimator):
+        _parameter_constraints = {"k": [Interval(Integral, 1, None, closed="left")]}
+
+        def __init__(self, k=1):
+            self.k = k
+
+        @fit_context(prefer_skip_nested_validation=True)
+        def fit(self, X=None, y=None):
+            self.nested_skip_ = sklearn.get_config()["skip_parameter_validation"]
+            return self
+
+        @fit_context(prefer_skip_nested_validation=False)
+        def partial_fit(self, X=None, y=None):
+            self.nested_skip_ = sklearn.get_config()["skip_parameter_validation"]
+            return self
+
+    with pytest.raises(InvalidParameterError, match="'k' parameter of Stub"):
+        Stub(k=0).fit()
+    with pytest.raises(InvalidParameterError, match="'k' parameter of Stub"):
+        Stub(k=0).partial_fit()
+    assert Stub().fit().nested_skip_ is True
+    assert Stub().partial_fit().nested_skip_ is False
+    fitted = Stub().partial_fit()
+    fitted.set_params(k=0).partial_fit()  # fitted: partial_fit does not validate again
+    with sklearn.config_context(skip_parameter_validation=True):
+        assert Stub(k=0).fit().nested_skip_ is True
+        assert Stub(k=0).partial_fit().nested_skip_ is True

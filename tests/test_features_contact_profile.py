@@ -7,11 +7,11 @@ from sklearn.linear_model import LogisticRegression
 from sklearn.model_selection import cross_val_score
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
-from sklearn.utils._param_validation import InvalidParameterError
 
 from sklearn_hardness.model_selection import evaluate_pipelines
 from sklearn_hardness.models import peak_contact_change
 from sklearn_hardness.features import ContactProfileFeatures
+from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 from ._synthetic import FRAMED_GEL, framed_press, growing_disc_press, synthetic_press
 

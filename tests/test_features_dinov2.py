@@ -7,10 +7,10 @@ import pytest
 import torch
 from sklearn.base import clone
 from sklearn.exceptions import NotFittedError
-from sklearn.utils._param_validation import InvalidParameterError
 import transformers  # the [dinov2] extra; CI installs it (no skipping)
 
 from sklearn_hardness.features import DINOv2Features
+from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 
 DIM = 32

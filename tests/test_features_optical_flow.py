@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 from sklearn.base import clone
 from sklearn.exceptions import NotFittedError
-from sklearn.utils._param_validation import InvalidParameterError
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
 from sklearn_hardness.features import OpticalFlowFeatures
+from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 # scikit-learn's common checks and their 5-D equivalents run in tests/test_common.py.
 

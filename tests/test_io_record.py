@@ -3,11 +3,11 @@ import warnings
 
 import numpy as np
 import pytest
-from sklearn.utils._param_validation import InvalidParameterError
 
 from sklearn_hardness._cli import main
 from sklearn_hardness.datasets import load_press_videos
 from sklearn_hardness.io import read_video, record_video, write_video
+from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 from ._synthetic import synthetic_press
 

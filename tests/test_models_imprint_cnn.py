@@ -5,7 +5,6 @@ import pytest
 import torch
 from sklearn.base import clone
 from sklearn.model_selection import GridSearchCV
-from sklearn.utils._param_validation import InvalidParameterError
 from sklearn.utils.class_weight import compute_class_weight
 from skorch.callbacks import Callback
 
@@ -18,6 +17,7 @@ from sklearn_hardness.models import (
     pipeline_info,
 )
 from sklearn_hardness.models._imprint_cnn import ImprintCNN
+from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 from ._synthetic import synthetic_press
 

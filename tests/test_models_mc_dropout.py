@@ -7,10 +7,10 @@ import pytest
 import torch
 from sklearn.base import clone
 from sklearn.exceptions import NotFittedError
-from sklearn.utils._param_validation import InvalidParameterError
 
 from sklearn_hardness.models import ConvLSTMClassifier, DINOv2NNClassifier, OFNNClassifier
 from sklearn_hardness.models._mc_sampling import MCDropout
+from sklearn_hardness.utils._param_validation import InvalidParameterError
 from tests._threads import torch_threads
 
 
@@ -119,7 +119,7 @@ def test_chunking_gives_same_result_without_dropout(case):
 
 def test_bad_dropout_via_set_params_is_reported_at_use_not_stored_in_the_module(case):
     # sklearn convention: set_params never raises; the value is checked where it is used.
-    from sklearn.utils._param_validation import InvalidParameterError
+    from sklearn_hardness.utils._param_validation import InvalidParameterError
 
     from sklearn_hardness.models._mc_sampling import MCDropout
 

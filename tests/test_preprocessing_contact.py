@@ -403,7 +403,7 @@ def test_mixed_outcomes_are_counted_separately():
 
 
 def test_parameters_are_validated_by_sklearn():
-    from sklearn.utils._param_validation import InvalidParameterError
+    from sklearn_hardness.utils._param_validation import InvalidParameterError
 
     with pytest.raises(InvalidParameterError, match="'threshold' parameter of ContactFrameSelector"):
         ContactFrameSelector(threshold=float("nan")).fit([synthetic_press()])
@@ -433,7 +433,7 @@ def test_crop_contact_centres_a_fixed_window_on_the_change():
 
 
 def test_crop_contact_without_change_keeps_the_centre_and_bad_values_raise():
-    from sklearn.utils._param_validation import InvalidParameterError
+    from sklearn_hardness.utils._param_validation import InvalidParameterError
 
     video = np.full((12, 40, 60, 3), 120, dtype=np.uint8)
     with pytest.warns(ContactNotFoundWarning):

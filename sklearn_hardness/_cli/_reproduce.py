@@ -118,10 +118,11 @@ def _run_paper_protocol(args, config):
 
 def _reproduce_config(args):
     """The configuration overrides of ``reproduce``, every input checked before anything is written."""
+    from .._experiment_names import STRATEGIES
     from ..active._strategies import check_strategies
     from ..datasets import load_press_videos
-    from ..experiments._active import STRATEGIES
-    from ..experiments._config import check_config, get_config
+    from ..experiments import get_config
+    from ..experiments._config import check_config
     from ..experiments._data import load_dataset
 
     if args.protocol == "paper" and (args.dataset or args.model):

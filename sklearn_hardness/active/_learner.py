@@ -12,23 +12,23 @@ from sklearn.base import (
     BaseEstimator,
     ClassifierMixin,
     MetaEstimatorMixin,
-    _fit_context,
     clone,
 )
 from sklearn.exceptions import NotFittedError
 from sklearn.metrics import accuracy_score
 from sklearn.pipeline import Pipeline
 from sklearn.utils import check_random_state
-from sklearn.utils._param_validation import (
-    HasMethods,
-    Interval,
-    StrOptions,
-    validate_params,
-)
 from sklearn.utils.validation import check_is_fitted
 
 from ..models import EnsembleClassifier
-from ..models._mc_dropout import MCDropoutClassifierBase
+from ..utils._param_validation import (
+    HasMethods,
+    Interval,
+    StrOptions,
+    fit_context,
+    validate_estimator_params,
+    validate_params,
+)
 from ..utils._random import int_seed
 from ..utils._torch import seeded_torch_rng
 from ._rows import concat_rows, n_rows, training_subset
@@ -339,7 +339,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             return
         seed = int_seed(self._rng)
         final = self._final()
-        if isinstance(final, MCDropoutClassifierBase) and final.random_state is not None:
+        if getattr(final, "_own_torch_generators", False) and final.random_state is not None:
             # our nets draw from their own generators, seeded by random_state: no
             # need to seed (and lock) torch's process-wide generator for the training
             yield
@@ -439,7 +439,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             )
 
     # ------------------------------------------------------------------ API
-    @_fit_context(prefer_skip_nested_validation=False)
+    @fit_context(prefer_skip_nested_validation=False)
     def fit(self, X, y):
         """Initial training on the first presses of every reference object.
 
@@ -569,7 +569,7 @@ class ActiveLearner(MetaEstimatorMixin, ClassifierMixin, BaseEstimator):
             returns indices only).
         """
         check_is_fitted(self, "estimator_")
-        self._validate_params()  # set_params may have changed them since fit
+        validate_estimator_params(self)  # set_params may have changed them since fit
         strategy = get_strategy(self.query_strategy)
         if X_test is None:
             raise ValueError("X_test is None; pass presses of the test object.")

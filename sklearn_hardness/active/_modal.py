@@ -8,7 +8,8 @@ from numbers import Integral
 import numpy as np
 from sklearn.pipeline import Pipeline
 from sklearn.utils import check_random_state
-from sklearn.utils._param_validation import Interval, validate_params
+
+from ..utils._param_validation import Interval, validate_params
 
 __all__ = ["as_modal_strategy"]
 

@@ -7,8 +7,8 @@ from numbers import Integral
 
 import numpy as np
 from sklearn.utils import _safe_indexing, check_random_state
-from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
+from ..utils._param_validation import Interval, StrOptions, validate_params
 from ..utils._warnings import external_stacklevel
 
 __all__ = ["PressOracle"]

@@ -7,7 +7,7 @@ import scipy.sparse as sp
 import torch
 from sklearn.utils import _safe_indexing
 
-from ..datasets._lazy import LazyVideoSequence
+from ..utils._lazy import LazyVideoSequence
 
 __all__ = ["concat_rows", "n_rows", "training_subset"]
 

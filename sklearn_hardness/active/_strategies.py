@@ -17,8 +17,8 @@ from numbers import Integral
 
 import numpy as np
 from sklearn.utils import check_random_state
-from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
+from ..utils._param_validation import Interval, StrOptions, validate_params
 from ._uncertainty import check_proba_samples, class_uncertainty, variance_decomposition
 
 __all__ = [
@@ -475,9 +475,10 @@ def get_strategy(strategy):
 
     Raises
     ------
-    sklearn.utils._param_validation.InvalidParameterError
+    ValueError
         For an unknown name or something that is neither a string nor
-        callable (a ValueError and a TypeError).
+        callable (an ``InvalidParameterError``, with scikit-learn's message
+        format, which is also a TypeError).
 
     Examples
     --------

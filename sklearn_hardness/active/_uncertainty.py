@@ -13,7 +13,8 @@ from numbers import Real
 
 import numpy as np
 from scipy.special import xlogy
-from sklearn.utils._param_validation import Interval, StrOptions, validate_params
+
+from ..utils._param_validation import Interval, StrOptions, validate_params
 
 __all__ = ["class_uncertainty", "variance_decomposition", "UNCERTAINTY_KINDS"]
 
@@ -180,9 +181,10 @@ def class_uncertainty(proba_samples, kind="entropy", *, atol=None):
 
     Raises
     ------
-    sklearn.utils._param_validation.InvalidParameterError
+    ValueError
         If ``kind`` is unknown, ``atol`` negative or ``proba_samples`` not
-        array-like (a ValueError and a TypeError).
+        array-like (an ``InvalidParameterError``, with scikit-learn's message
+        format, which is also a TypeError).
     ValueError
         If the array is not 3-D, has fewer than two classes, contains
         NaN/inf, values outside ``[0, 1]`` or rows that do not sum to one.

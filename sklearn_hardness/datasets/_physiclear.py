@@ -11,9 +11,9 @@ from pathlib import Path
 
 import numpy as np
 from sklearn.utils import Bunch
-from sklearn.utils._param_validation import Interval, validate_params
 
 from ..io import read_video
+from ..utils._param_validation import Interval, validate_params
 from ._lazy import LazyVideoSequence
 
 __all__ = ["load_physiclear"]

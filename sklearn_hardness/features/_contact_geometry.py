@@ -19,11 +19,11 @@ import numbers
 import cv2
 import numpy as np
 from joblib import Parallel, delayed
-from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
-from sklearn.utils._param_validation import Interval
+from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ..preprocessing._contact_curve import _as_float255, _check_float_range
+from ..utils._frames import as_float255, check_float_range
+from ..utils._param_validation import Interval, fit_context
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
 from ._common import check_feature_names, feature_columns
@@ -79,7 +79,7 @@ def _small_rgb(video, max_side, roi, name):
 def _checked_roi(video, roi, name):
     """The video checked (float values in [0, 1] over all of it) and cropped to ``roi``."""
     video = check_video(video, min_frames=1, name=name)
-    _check_float_range(video, name)  # the whole video, before the crop and the averaging
+    check_float_range(video, name)  # the whole video, before the crop and the averaging
     rows, cols = roi_slices(video.shape[1:3], roi, name)
     return video[:, rows, cols]
 
@@ -92,7 +92,7 @@ def _block_mean(video, max_side, name, frames=None):
     hs, ws = max(1, h // f), max(1, w // f)
     out = np.empty((len(frames), hs, ws, c), np.float32)
     for k, i in enumerate(frames):
-        frame = _as_float255(video[i, : hs * f, : ws * f], name)
+        frame = as_float255(video[i, : hs * f, : ws * f], name)
         if f > 1:  # an integer factor: OpenCV's area interpolation is the mean of each f x f block
             frame = cv2.resize(frame, (ws, hs), interpolation=cv2.INTER_AREA).reshape(hs, ws, c)
         out[k] = frame
@@ -407,7 +407,7 @@ class ContactGeometryFeatures(TransformerMixin, BaseEstimator):
         self.roi = roi
         self.n_jobs = n_jobs
 
-    @_fit_context(prefer_skip_nested_validation=True)
+    @fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
         """Check the parameters and the input (stateless otherwise).
 

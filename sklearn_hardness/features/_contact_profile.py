@@ -7,11 +7,11 @@ import numbers
 import cv2
 import numpy as np
 from joblib import Parallel, delayed
-from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
-from sklearn.utils._param_validation import Interval, StrOptions
+from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ..preprocessing._contact_curve import _as_float255, _check_float_range
+from ..utils._frames import as_float255, check_float_range
+from ..utils._param_validation import Interval, StrOptions, fit_context
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
 from ._common import check_feature_names, feature_columns
@@ -43,12 +43,12 @@ def _grey_small(video, max_side, roi=None, name="video"):
     raises an error naming it.
     """
     video = check_video(video, min_frames=1, name=name)
-    _check_float_range(video, name)  # the whole video, not only the strided pixels
+    check_float_range(video, name)  # the whole video, not only the strided pixels
     rows, cols = roi_slices(video.shape[1:3], roi, name)  # the whole frame for roi=None
     video = video[:, rows, cols]
     h, w = video.shape[1:3]
     stride = max(1, max(h, w) // max_side)
-    small = _as_float255(video[:, ::stride, ::stride], name)
+    small = as_float255(video[:, ::stride, ::stride], name)
     return small.mean(axis=-1) if small.ndim == 4 else small
 
 
@@ -272,7 +272,7 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         self.roi = roi
         self.n_jobs = n_jobs
 
-    @_fit_context(prefer_skip_nested_validation=True)
+    @fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
         """Check the parameters and the input (stateless otherwise).
 

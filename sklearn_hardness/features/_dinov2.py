@@ -10,11 +10,17 @@ from numbers import Integral
 
 import numpy as np
 import torch
-from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
-from sklearn.utils._param_validation import Interval, InvalidParameterError, StrOptions
+from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ..utils._param_validation import Pair, ValueRange
+from ..utils._param_validation import (
+    Interval,
+    InvalidParameterError,
+    Pair,
+    StrOptions,
+    ValueRange,
+    fit_context,
+)
 from ..utils._validation import check_frames_array
 from ..utils._tags import frames_tags
 from ._common import sample_range
@@ -185,7 +191,7 @@ class DINOv2Features(TransformerMixin, BaseEstimator):
         self.dtype = dtype
 
     # --------------------------------------------------------------- sklearn API
-    @_fit_context(prefer_skip_nested_validation=True)
+    @fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
         """Load and freeze the backbone and remember the number and shape of frames.
 

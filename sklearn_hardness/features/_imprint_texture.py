@@ -21,10 +21,10 @@ import cv2
 import numpy as np
 from joblib import Parallel, delayed
 from skimage.feature import graycomatrix, graycoprops, local_binary_pattern
-from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
-from sklearn.utils._param_validation import Interval, StrOptions
+from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
+from ..utils._param_validation import Interval, StrOptions, fit_context
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video_sequence
 from ._common import check_feature_names
@@ -361,7 +361,7 @@ class ImprintTextureFeatures(TransformerMixin, BaseEstimator):
         self.roi = roi
         self.n_jobs = n_jobs
 
-    @_fit_context(prefer_skip_nested_validation=True)
+    @fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
         """Check the parameters and the input (stateless otherwise).
 

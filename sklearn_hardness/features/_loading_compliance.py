@@ -6,10 +6,10 @@ import numbers
 import warnings
 
 import numpy as np
-from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
-from sklearn.utils._param_validation import Interval, StrOptions
+from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
+from ..utils._param_validation import Interval, StrOptions, fit_context
 from ..utils._tags import force_position_tags
 from ..utils._validation import check_force_position
 from ..utils._warnings import external_stacklevel
@@ -178,7 +178,7 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
         self.min_loading_frames = min_loading_frames
         self.drive_compliance = drive_compliance
 
-    @_fit_context(prefer_skip_nested_validation=True)
+    @fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
         """Check the parameters and the input (stateless otherwise).
 

@@ -12,7 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..preprocessing._contact_curve import _smooth
+from ..utils._frames import smooth_curve
 from ._contact_profile import _n_precontact
 
 _EPS = 1e-6
@@ -67,7 +67,7 @@ def loading_moments(small, fractions):
     curve = _norm(d0).reshape(t, -1).mean(axis=1, dtype=np.float64)
     if t < 3 or curve.max() <= 0:
         return None
-    smooth = _smooth(curve)
+    smooth = smooth_curve(curve)
     i_peak = int(np.argmax(smooth))
     n_pre = _n_precontact(smooth, i_peak)
     level = float(np.median(smooth[1:n_pre])) if n_pre > 1 else 0.0

@@ -8,12 +8,11 @@ from numbers import Integral, Real
 import cv2
 import numpy as np
 from joblib import Parallel, delayed
-from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
+from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils import Bunch
-from sklearn.utils._param_validation import Interval, StrOptions
 from sklearn.utils.validation import check_is_fitted
 
-from ..utils._param_validation import Pair, ValueRange
+from ..utils._param_validation import Interval, Pair, StrOptions, ValueRange, fit_context
 from ..utils._warnings import external_stacklevel
 from ..utils._validation import check_frames_array
 from ..utils._tags import frames_tags
@@ -231,7 +230,7 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
         self.n_jobs = n_jobs
 
     # --------------------------------------------------------------- sklearn API
-    @_fit_context(prefer_skip_nested_validation=True)
+    @fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
         """Check the parameters and remember the number and shape of frames.
 

@@ -9,9 +9,8 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-from sklearn.utils._param_validation import HasMethods, Interval, validate_params
 
-from ..utils._param_validation import FRAME_SIZE
+from ..utils._param_validation import FRAME_SIZE, HasMethods, Interval, validate_params
 from ..utils._warnings import external_stacklevel
 from ._video import _to_rgb, write_video
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-from sklearn.utils._param_validation import Interval, validate_params
 
+from ..utils._param_validation import Interval, validate_params
 from ..utils._validation import check_video
 
 __all__ = ["read_video", "write_video", "VIDEO_EXTENSIONS", "IMAGE_EXTENSIONS"]

@@ -6,7 +6,8 @@ from collections.abc import Mapping
 
 import numpy as np
 from sklearn.metrics import make_scorer
-from sklearn.utils._param_validation import validate_params
+
+from ..utils._param_validation import validate_params
 
 __all__ = ["hardness_mae", "make_hardness_mae_scorer"]
 

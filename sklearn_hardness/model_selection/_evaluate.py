@@ -20,7 +20,7 @@ from sklearn.base import BaseEstimator, clone
 from sklearn.metrics import balanced_accuracy_score, confusion_matrix
 from sklearn.pipeline import Pipeline
 from sklearn.utils import _safe_indexing
-from sklearn.utils._param_validation import HasMethods, Interval, StrOptions, validate_params
+from ..utils._param_validation import HasMethods, Interval, StrOptions, validate_params
 
 from .._registry import DEFAULT_PIPELINES, PIPELINE_NAMES, make_named_pipeline
 from ..datasets._lazy import raise_unreadable

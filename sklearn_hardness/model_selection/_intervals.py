@@ -14,7 +14,7 @@ from __future__ import annotations
 import numbers
 
 import numpy as np
-from sklearn.utils._param_validation import Interval, validate_params
+from ..utils._param_validation import Interval, validate_params
 
 from ..utils._intervals import _interval
 

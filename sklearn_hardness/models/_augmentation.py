@@ -6,7 +6,8 @@ import numbers
 
 import torch
 from sklearn.base import BaseEstimator
-from sklearn.utils._param_validation import Interval, validate_parameter_constraints
+
+from ..utils._param_validation import Interval, validate_parameter_constraints
 
 __all__ = ["FrameAugmenter"]
 

@@ -8,8 +8,8 @@ import warnings
 
 import numpy as np
 from sklearn.exceptions import ConvergenceWarning
-from sklearn.utils._param_validation import Interval, validate_params
 
+from ..utils._param_validation import Interval, validate_params
 from ..utils._warnings import external_stacklevel
 
 __all__ = ["chance_scaled_threshold", "is_converged", "check_convergence"]

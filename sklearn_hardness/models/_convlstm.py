@@ -5,8 +5,8 @@ from __future__ import annotations
 import numbers
 
 import torch
-from sklearn.utils._param_validation import HasMethods, Interval, StrOptions
 
+from ..utils._param_validation import HasMethods, Interval, StrOptions
 from ._frames_net import FramesNetMixin, register_input_buffers
 from ._mc_dropout import MCDropoutClassifierBase
 from ._mc_sampling import MCDropout

@@ -8,10 +8,17 @@ import numbers
 import numpy as np
 import torch
 from joblib import Parallel, delayed
-from sklearn.base import BaseEstimator, ClassifierMixin, _fit_context, clone
-from sklearn.utils._param_validation import HasMethods, Interval, StrOptions, validate_parameter_constraints
+from sklearn.base import BaseEstimator, ClassifierMixin, clone
 from sklearn.utils.validation import check_is_fitted
 
+from ..utils._param_validation import (
+    HasMethods,
+    Interval,
+    StrOptions,
+    fit_context,
+    validate_estimator_params,
+    validate_parameter_constraints,
+)
 from ..utils._random import draw_seeds, set_random_states
 from ..utils._torch import resolve_device
 from ._convlstm import ConvLSTMClassifier, ConvLSTMNet
@@ -269,7 +276,7 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
         if hasattr(self.estimators_[0], "n_features_in_"):
             self.n_features_in_ = self.estimators_[0].n_features_in_
 
-    @_fit_context(prefer_skip_nested_validation=False)
+    @fit_context(prefer_skip_nested_validation=False)
     def fit(self, X, y, **fit_params):
         """Train every member from scratch on ``(X, y)``.
 
@@ -307,7 +314,7 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
         self
         """
         if not hasattr(self, "estimators_"):
-            self._validate_params()
+            validate_estimator_params(self)
             self.estimators_ = self._new_members()
         if not all(hasattr(m, "partial_fit") for m in self.estimators_):
             raise TypeError(f"{type(self.estimator).__name__} has no partial_fit; use fit.")

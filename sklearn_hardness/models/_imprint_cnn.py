@@ -7,8 +7,8 @@ import numbers
 
 import numpy as np
 import torch
-from sklearn.utils._param_validation import HasMethods, Interval
 
+from ..utils._param_validation import HasMethods, Interval
 from ._augmentation import FrameAugmenter
 from ._frames_net import FramesNetMixin, register_input_buffers
 from ._mc_dropout import MCDropoutClassifierBase

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numbers
 
 import numpy as np
-from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
-from sklearn.utils._param_validation import Interval
+from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
+from ..utils._param_validation import Interval, fit_context
 from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
 
@@ -79,7 +79,7 @@ class IntensityChannels(TransformerMixin, BaseEstimator):
     def __init__(self, floor=0.25):
         self.floor = floor
 
-    @_fit_context(prefer_skip_nested_validation=True)
+    @fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
         """Check the parameters and remember the number of channels.
 

@@ -9,8 +9,9 @@ import numpy as np
 from scipy.special import expit, softmax
 from sklearn.linear_model import LogisticRegression
 from sklearn.utils import check_random_state
-from sklearn.utils._param_validation import Interval, validate_parameter_constraints
 from sklearn.utils.validation import check_is_fitted, validate_data
+
+from ..utils._param_validation import Interval, validate_parameter_constraints
 
 __all__ = ["LaplaceLogisticRegression"]
 
@@ -107,10 +108,11 @@ class LaplaceLogisticRegression(LogisticRegression):
         -------
         self : LaplaceLogisticRegression
         """
-        self._validate_params()  # scikit-learn's own messages for a bad C, solver, ... before ours
-        self._check_gaussian_prior()
         X = validate_data(self, X, dtype=np.float64)  # dense: the Hessian is a dense matrix anyway
+        # LogisticRegression.fit first: scikit-learn's own messages for a bad C, solver, ... come
+        # before ours (a value it accepts but that is no Gaussian prior is refused right after)
         super().fit(X, y, sample_weight=sample_weight)
+        self._check_gaussian_prior()
         weights = self._row_weights(y, sample_weight)
         self.posterior_covariance_ = self._covariance(X, weights)
         return self

@@ -31,17 +31,17 @@ from skorch import NeuralNetClassifier
 from skorch.callbacks import Callback
 from skorch.dataset import Dataset
 from sklearn.exceptions import NotFittedError
-from sklearn.utils._param_validation import (
+from sklearn.utils.class_weight import compute_class_weight
+from sklearn.utils.multiclass import check_classification_targets
+from sklearn.utils.validation import check_consistent_length, column_or_1d
+
+from ..utils._param_validation import (
     Interval,
     InvalidParameterError,
     Options,
     StrOptions,
     validate_parameter_constraints,
 )
-from sklearn.utils.class_weight import compute_class_weight
-from sklearn.utils.multiclass import check_classification_targets
-from sklearn.utils.validation import check_consistent_length, column_or_1d
-
 from ..utils._random import draw_seeds
 from ..utils._torch import resolve_device, seeded_torch_rng
 from ._mc_sampling import MC_MEMORY_BUDGET, MCDropout, dropout_generator, sample_proba, softmax
@@ -85,6 +85,11 @@ class MCDropoutClassifierBase(NetPersistenceMixin, NeuralNetClassifier):
       weights when every class is present); a class declared by ``classes``
       but absent from ``y`` gets weight 1.0.
     """
+
+    #: Draws its dropout masks and initial weights from its own generators, seeded by
+    #: ``random_state``, never from torch's global one (``ActiveLearner`` reads it so that it
+    #: seeds and locks the global generator only for models that need it).
+    _own_torch_generators = True
 
     _parameter_constraints = {
         "dropout": [Interval(numbers.Real, 0, 1, closed="left")],

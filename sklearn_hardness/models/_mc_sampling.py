@@ -34,7 +34,15 @@ __all__ = ["MCDropout", "sample_proba", "softmax"]
 #: a GPU wants big batches.
 MC_MEMORY_BUDGET = {"cpu": 32 * 2**20, "cuda": 1024 * 2**20}
 
-_DROPOUT_TYPES = (torch.nn.modules.dropout._DropoutNd,)
+#: torch's dropout layers (the public subclasses of its private ``_DropoutNd``)
+_DROPOUT_TYPES = (
+    torch.nn.Dropout,
+    torch.nn.Dropout1d,
+    torch.nn.Dropout2d,
+    torch.nn.Dropout3d,
+    torch.nn.AlphaDropout,
+    torch.nn.FeatureAlphaDropout,
+)
 
 
 class MCDropout(torch.nn.Module):

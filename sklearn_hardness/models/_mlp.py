@@ -13,9 +13,9 @@ import textwrap
 
 import numpy as np
 import torch
-from sklearn.utils._param_validation import Interval
 from sklearn.utils.validation import check_array
 
+from ..utils._param_validation import Interval
 from ._mc_dropout import MCDropoutClassifierBase
 from ._mc_sampling import MCDropout
 

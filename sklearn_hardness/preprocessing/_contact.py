@@ -8,17 +8,24 @@ import warnings
 import cv2
 import numpy as np
 from joblib import Parallel, delayed
-from sklearn.base import BaseEstimator, TransformerMixin, _fit_context
+from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils import Bunch
-from sklearn.utils._param_validation import Hidden, Interval, StrOptions
 from sklearn.utils.validation import check_is_fitted
 
-from ..utils._param_validation import FRAME_SIZE
+from ..utils._param_validation import (
+    FRAME_SIZE,
+    Hidden,
+    Interval,
+    StrOptions,
+    fit_context,
+    validate_estimator_params,
+)
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
 from ..utils._warnings import external_stacklevel
 
-from ._contact_curve import _as_float255, _contact_window, _min_frames_auto, _select_one
+from ..utils._frames import as_float255
+from ._contact_curve import _contact_window, _min_frames_auto, _select_one
 
 __all__ = ["ContactFrameSelector", "ContactNotFoundWarning"]
 
@@ -278,7 +285,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
             With ``on_no_contact="raise"``, if any video never reaches
             contact; or if a video is invalid.
         """
-        self._validate_params()  # select may be called without fit
+        validate_estimator_params(self)  # select may be called without fit
         self._warn_output_size()
         return self._run(X, extract=False)[1]
 
@@ -364,9 +371,9 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         rows, cols = roi_slices(video.shape[1:3], self.roi, name)
         if self.crop_contact is not None:
             rows, cols = _contact_window(video, indices, rows, cols, self.crop_contact, name)
-        frames = _as_float255(video[indices][:, rows, cols], name)
+        frames = as_float255(video[indices][:, rows, cols], name)
         if self.subtract_first:
-            frames -= _as_float255(video[:1, rows, cols], name)
+            frames -= as_float255(video[:1, rows, cols], name)
         frames /= 255.0
         if self.color == "gray" and frames.shape[-1] == 3:
             frames = frames @ np.array([0.299, 0.587, 0.114], dtype=np.float32)
@@ -381,7 +388,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         return np.ascontiguousarray(frames, dtype=np.float32)
 
     # ------------------------------------------------------------- estimator
-    @_fit_context(prefer_skip_nested_validation=True)
+    @fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
         """Check the parameters and find the contact frames of ``X``.
 
@@ -398,7 +405,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         self.fit_transform(X, y)
         return self
 
-    @_fit_context(prefer_skip_nested_validation=True)
+    @fit_context(prefer_skip_nested_validation=True)
     def fit_transform(self, X, y=None):
         """Fit to ``X`` and return its selected frames, in one pass over the videos.
 

@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
-from scipy.ndimage import median_filter
 
+from ..utils._frames import as_float255, check_float_range, smooth_curve
 from ..utils._validation import check_video, roi_slices
 
 __all__ = ["contact_curve"]
@@ -31,13 +31,12 @@ _RELATIVE = 0.05
 _STRONG_CONTRAST = 2.0
 # Weak contacts (compressed, marker-less streams) are tested on a localised curve: the mean
 # of the most-changed _LOCAL_TOP of a grid of _LOCAL_CELLS x _LOCAL_CELLS cells, so a small
-# sharp contact is not diluted by the pad, running-median smoothed over _SMOOTH frames
+# sharp contact is not diluted by the pad, running-median smoothed (utils._frames.smooth_curve)
 # (codec key-frame dips and one-frame glitches go), against its own _BASE_QUANTILE level
 # (the quiet part of the video, robust to the codec's rise over the first frames; taken over
 # the frames before the maximum where a long hold would put it on the plateau: _quiet_level).
 _LOCAL_CELLS = 8
 _LOCAL_TOP = 0.1
-_SMOOTH = 5
 _BASE_QUANTILE = 0.2
 # A weak contact must lift the localised curve to this multiple of its quiet level.
 _MIN_RATIO = 1.4
@@ -52,36 +51,10 @@ _PEAK_TOLERANCE = 0.02
 _RIDGE = 4.0
 
 
-def _check_float_range(video, name):
-    """Raise if a float video has values outside [0, 1]; integer videos are not looked at.
-
-    Called on the whole video before any striding or cropping, so a value
-    out of range anywhere is found, not only in the pixels that are read.
-    """
-    if video.dtype.kind != "f" or video.size == 0:
-        return
-    vmin, vmax = float(video.min()), float(video.max())
-    if vmin < 0.0 or vmax > 1.0:
-        raise ValueError(
-            f"{name} has float frames with values in [{vmin:g}, {vmax:g}]; float videos must be "
-            "scaled to [0, 1] (or pass uint8 frames)."
-        )
-
-
-def _as_float255(video, name):
-    """Frames as float32 in 0..255 intensity units (uint8 as is, uint16 / 257, float in [0, 1] * 255)."""
-    if video.dtype == np.uint8:
-        return video.astype(np.float32)
-    if video.dtype == np.uint16:
-        return video.astype(np.float32) / 257.0
-    _check_float_range(video, name)
-    return video.astype(np.float32) * 255.0
-
-
 def _contact_window(video, indices, rows, cols, fraction, name):
     """Row and column slices of a fixed-size window centred on the change of a press."""
-    last = _as_float255(video[indices[-1] : indices[-1] + 1, rows, cols], name)[0]
-    first = _as_float255(video[:1, rows, cols], name)[0]
+    last = as_float255(video[indices[-1] : indices[-1] + 1, rows, cols], name)[0]
+    first = as_float255(video[:1, rows, cols], name)[0]
     change = np.abs(last - first).mean(axis=-1)
     change = cv2.blur(change, (5, 5))
     weight = np.clip(change - np.median(change), 0.0, None)  # the unchanged pad weighs nothing
@@ -177,12 +150,12 @@ def _curves(video, roi, name):
     ``_LOCAL_TOP`` of a grid of cells over the (strided) frame. A float
     video is range-checked whole, before the crop and the stride.
     """
-    _check_float_range(video, name)
+    check_float_range(video, name)
     rows, cols = roi_slices(video.shape[1:3], roi, name)
     video = video[:, rows, cols]
     h, w = video.shape[1:3]
     stride = max(1, max(h, w) // _CURVE_SIDE)
-    small = _as_float255(video[:, ::stride, ::stride], name)
+    small = as_float255(video[:, ::stride, ::stride], name)
     t, h, w = small.shape[:3]
     resid = _illumination_residual(small)
     curve = resid.mean(axis=(1, 2), dtype=np.float64)
@@ -198,14 +171,6 @@ def _curves(video, roi, name):
 def _min_frames_auto(n_baseline):
     """Fewest frames the automatic threshold needs: the first, the baseline and two more."""
     return n_baseline + 3
-
-
-def _smooth(curve):
-    """Running median over ``_SMOOTH`` frames of all but the first (reference) frame."""
-    out = curve.copy()
-    if len(curve) > 2:
-        out[1:] = median_filter(curve[1:], size=min(_SMOOTH, len(curve) - 1), mode="nearest")
-    return out
 
 
 def _quiet_level(smooth, top):
@@ -247,7 +212,7 @@ def _mean_curve_peak(curve, n_baseline):
     else:
         level, noise = 0.0, 0.0
     if len(curve) > 2:
-        smooth = _smooth(curve)
+        smooth = smooth_curve(curve)
         level = max(level, _quiet_level(smooth, top))
         noise = max(noise, float(1.4826 * np.median(np.abs(curve[1:] - smooth[1:]))))
     contrast = float(curve[top]) - level
@@ -258,7 +223,7 @@ def _mean_curve_peak(curve, n_baseline):
 
 def _locate_weak(local, min_contrast):
     """Start, peak and found on the smoothed localised curve (weak contacts in compressed video)."""
-    smooth = _smooth(local)
+    smooth = smooth_curve(local)
     top = int(np.argmax(smooth))
     quiet = _quiet_level(smooth, top)
     rise = float(smooth[top]) - quiet

@@ -6,7 +6,7 @@ import sys
 import sklearn
 
 #: Folders whose frames a warning skips: this package and scikit-learn's wrappers
-#: (``_fit_context``, ``set_output``) that sit between a user's call and our code.
+#: (``set_output``, ``Pipeline``) that sit between a user's call and our code.
 _INTERNAL = (
     os.path.dirname(os.path.dirname(os.path.abspath(__file__))) + os.sep,
     os.path.dirname(os.path.abspath(sklearn.__file__)) + os.sep,
