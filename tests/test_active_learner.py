@@ -673,6 +673,7 @@ def test_a_net_in_the_learner_gets_the_plain_draw(monkeypatch):
     assert seen == [False, True]
 
 
+@pytest.mark.slow
 def test_refit_estimator_keeps_every_class_under_a_small_cap():
     """A refit-from-scratch estimator (plain fit(X, y)) trained on a capped subset kept
     every class: a subset that lost one made the next query crash."""

@@ -246,6 +246,7 @@ def test_convlstm_convergence_rule():
 
 
 # ----------------------------------------------------------------- baselines and dropout
+@pytest.mark.slow
 def test_model_baselines_and_dropout_sweep(tmp_path):
     data = tiny_presses()
     kw = dict(n_train_per_class=3, n_test_per_class=2, n_runs=2, verbose=0, initial_epochs=3,
@@ -359,6 +360,7 @@ def test_device_key_reaches_the_named_models_and_keeps_old_hashes():
         check_config(dict(cfg, device=0))
 
 
+@pytest.mark.slow
 def test_early_stopping_cuts_epochs_and_is_recorded():
     from sklearn_hardness.experiments import get_config, run_active_sampling
     from sklearn_hardness.experiments._config import config_hash

@@ -97,6 +97,7 @@ def test_contact_profile_is_the_laplace_logistic_head_without_net_settings():
     assert feature_params(cfg, "contact_profile") == feature_params(cfg, "contact_profile_nn")
 
 
+@pytest.mark.slow
 def test_features_of_a_preset_are_cached_on_disk(tmp_path):
     from sklearn_hardness.experiments import _data
 

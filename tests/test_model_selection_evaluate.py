@@ -414,6 +414,7 @@ def test_run_model_baselines_grouped_cv(tiny):
     assert [r["pipeline"] for r in result.table] == ["peak_change", "dummy"]
 
 
+@pytest.mark.slow
 def test_cli_evaluate_on_a_manifest(tmp_path, capsys, monkeypatch):
     root = tmp_path / "presses"
     assert main(["simulate", "--preset", "everyday", "--out", str(root), "--n-per-class", "1",
@@ -466,6 +467,7 @@ def test_named_nets_are_seeded_by_random_state():
     assert _named_estimators(["ofnn_quantiles"], None, None, None)[0]["ofnn_quantiles"][-1].random_state is None
 
 
+@pytest.mark.slow
 def test_a_run_by_name_repeats_exactly(tiny):
     a = _run(tiny, pipelines=["ofnn"], cv=3, random_state=1)
     b = _run(tiny, pipelines=["ofnn"], cv=3, random_state=1)
@@ -548,6 +550,7 @@ def test_roi_reaches_the_baseline_and_every_named_pipeline():
     assert on_gel.table[1]["balanced_accuracy"] >= 0.9 > 0.6 >= whole.table[1]["balanced_accuracy"]
 
 
+@pytest.mark.slow
 def test_per_press_steps_run_once_for_all_folds_with_the_same_results(tiny, monkeypatch):
     """Selection and features of each press: one pass for every fold and pipeline that shares them."""
     from sklearn_hardness.model_selection import _evaluate
@@ -575,6 +578,7 @@ def test_per_press_steps_run_once_for_all_folds_with_the_same_results(tiny, monk
         np.testing.assert_array_equal(once.fold_scores[name], per_fold.fold_scores[name])
 
 
+@pytest.mark.slow
 def test_per_press_pass_gives_the_nets_the_same_inputs(tiny, monkeypatch):
     """The frame selector and frozen DINOv2 features (a tiny random backbone) once for all folds: the same results."""
     from .test_features_dinov2 import tiny_backbone

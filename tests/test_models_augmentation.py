@@ -222,6 +222,7 @@ def _brightness_confounded(n, rng, bright_class):
     return np.asarray(X, dtype=np.float32), np.asarray(y)
 
 
+@pytest.mark.slow
 def test_gain_augmentation_lets_the_net_learn_the_shape_instead_of_a_confounded_brightness():
     # Training: the narrower class is always the brighter one; test: the broader one is.
     # A net free to use brightness fails on the test set; with gain drawn over a wide

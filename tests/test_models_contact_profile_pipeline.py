@@ -101,6 +101,7 @@ def test_default_head_is_the_logistic_one_and_misplaced_parameters_are_named():
     assert net.optimizer__weight_decay == 1e-3
 
 
+@pytest.mark.slow
 def test_contact_profile_nn_runs_by_name_in_evaluate():
     from sklearn_hardness.datasets import make_presses
 

@@ -1,4 +1,5 @@
 import numpy as np
+import pytest
 from sklearn.base import clone
 from sklearn.model_selection import GridSearchCV
 
@@ -28,6 +29,7 @@ def test_no_forwarding_without_a_sampler():
     assert not hasattr(pipe, "predict_proba_samples")
 
 
+@pytest.mark.slow
 def test_grid_search_over_dropout_on_videos():
     data = tiny_presses()
     pipe = make_convlstm_pipeline(frame_size=(8, 10), max_epochs=2, random_state=0)

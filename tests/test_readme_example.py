@@ -17,6 +17,7 @@ SMALLER = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.torch_threads(1)
 def test_readme_example_runs():
     code = re.search(r"```python\n(.*?)```", README.read_text(), re.S).group(1)
