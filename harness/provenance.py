@@ -182,10 +182,11 @@ def main(argv=None):
 
     ap = argparse.ArgumentParser(description="Add the commit and the machine to outputs of sklearn-hardness.")
     ap.add_argument("paths", nargs="+", help="files headed by the command line's provenance line")
+    ap.add_argument("--commit", help="the commit the run started at, where HEAD has moved since (default: HEAD)")
     args = ap.parse_args(argv)
     machine = machine_reference()
     for path in args.paths:
-        print(f"{'stamped' if stamp(path, machine=machine) else 'already stamped'}: {path}")
+        print(f"{'stamped' if stamp(path, machine=machine, commit=args.commit) else 'already stamped'}: {path}")
 
 
 if __name__ == "__main__":
