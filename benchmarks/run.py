@@ -61,6 +61,10 @@ BENCHMARKS = {
     "fit_predict": [
         ("contact_geometry, 240x320 presses", ["--n-presses", "40", "--n-predict", "3"], [], None),
     ],
+    "cross_val": [
+        ("contact_geometry: cross_val_score, memory, evaluate",
+         ["--n-per-class", "1", "--image-size", "120", "160"], [], None),
+    ],
     "device": [
         ("GPU beside CPU", ["--n-per-class", "4", "--epochs", "2"], [], "cuda"),
     ],

@@ -185,16 +185,23 @@ def make_named_pipeline(name, *, random_state=None, memory=None, **params):
         Seeds the nets' initial weights, shuffling and dropout. Ignored by the
         pipelines with nothing random to seed (``pipeline_info(name).random``
         is False).
-    memory : str, joblib.Memory or None, default=None
-        The :class:`~sklearn.pipeline.Pipeline`'s ``memory``: caches each
-        fitted transformer step, so that fitting the same steps on the same
-        presses again (a grid search over the classifier's parameters, a
-        second run) reads them from the cache instead of reading the videos
-        and extracting the features again. A video sequence hashes by its
-        keys (the files), not its frames. Across the folds of one
-        cross-validation the training presses differ, so each fold computes
-        its own; :func:`~sklearn_hardness.model_selection.evaluate_pipelines`
-        computes the per-press steps once for all folds instead.
+    memory : str, path-like, joblib.Memory or None, default=None
+        Cache the features of each press, so that a cross-validation, a
+        grid search or a later run that meets a press again reads its row
+        instead of reading the video and extracting the features again. The
+        per-press feature steps take it (``ContactGeometryFeatures``,
+        ``ContactProfileFeatures``, ``ImprintTextureFeatures`` and the
+        one-number peak change: every step with a ``memory`` parameter, or
+        a :class:`~sklearn.preprocessing.FunctionTransformer` whose function
+        takes one): each caches a press's row keyed by its parameters and
+        the press, a video of a lazy sequence by its file or seed (a hit
+        decodes no video), a video in memory by a hash of its frames. So the
+        folds of any :func:`~sklearn.model_selection.cross_val_score` share
+        the rows of the presses they have in common. A pipeline without
+        such a step (the nets, on selected frames) gets it as the
+        :class:`~sklearn.pipeline.Pipeline`'s ``memory``, which caches a
+        fitted step per training set (a grid search over the classifier's
+        parameters reuses it; folds do not).
     **params
         Passed to the pipeline's builder (its ``make_*_pipeline`` factory),
         e.g. ``roi=`` for the video pipelines, ``max_epochs=`` for a net. The
@@ -219,6 +226,14 @@ def make_named_pipeline(name, *, random_state=None, memory=None, **params):
     >>> pipe = make_named_pipeline("convlstm_intensity", random_state=0)
     >>> [step for step, _ in pipe.steps]
     ['frames', 'scale', 'intensity', 'clf']
+
+    With a memory, the folds of a second cross-validation (other folds,
+    another grid) read every press's features from it:
+
+    >>> import tempfile
+    >>> pipe = make_named_pipeline("contact_geometry", memory=tempfile.mkdtemp())
+    >>> pipe.named_steps["features"].memory is not None
+    True
     """
     function, fixed = builder(name)
     clash = sorted(set(params) & set(fixed))
@@ -229,4 +244,32 @@ def make_named_pipeline(name, *, random_state=None, memory=None, **params):
     if random_state is not None and _REGISTRY[name].info.random:
         params["random_state"] = random_state
     pipe = function(**fixed, **params)
-    return pipe if memory is None else pipe.set_params(memory=memory)
+    if memory is not None and not _cache_per_press(pipe, memory):
+        pipe.set_params(memory=memory)
+    return pipe
+
+
+def _cache_per_press(pipe, memory):
+    """Give ``memory`` to every step of ``pipe`` (nested ones too) that caches per press; whether any took it.
+
+    A step takes it where it has a ``memory`` parameter and is not itself a
+    pipeline (whose ``memory`` caches whole fitted steps), or is a
+    ``FunctionTransformer`` whose function has a ``memory`` argument (through
+    ``kw_args``).
+    """
+    import inspect
+
+    from sklearn.pipeline import Pipeline
+    from sklearn.preprocessing import FunctionTransformer
+
+    took = False
+    for path, step in pipe.get_params(deep=True).items():
+        if isinstance(step, FunctionTransformer):
+            if step.func is not None and "memory" in inspect.signature(step.func).parameters:
+                pipe.set_params(**{f"{path}__kw_args": {**(step.kw_args or {}), "memory": memory}})
+                took = True
+        elif hasattr(step, "get_params") and not isinstance(step, Pipeline) \
+                and "memory" in step.get_params(deep=False):
+            pipe.set_params(**{f"{path}__memory": memory})
+            took = True
+    return took

@@ -12,7 +12,7 @@ from sklearn.base import BaseEstimator
 from sklearn_hardness._registry import DEFAULT_PIPELINES, EXPERIMENT_MODELS, PipelineInfo
 from sklearn_hardness.experiments import get_config
 from sklearn_hardness.experiments._config import check_config
-from sklearn_hardness.model_selection._evaluate import _pipeline_by_name
+from sklearn_hardness._cli._evaluate import _estimators
 from sklearn_hardness.experiments._models import make_estimator, model_pipeline
 from sklearn_hardness.models import (
     make_convlstm_pipeline,
@@ -65,6 +65,11 @@ def test_unknown_names_and_fixed_arguments_fail_clearly():
         make_named_pipeline("ofnn", flow_output="magnitude_quantiles")
     # other arguments reach the builder
     assert make_named_pipeline("convlstm", roi=(0.1, 0.9, 0.1, 0.9)).named_steps["frames"].roi == (0.1, 0.9, 0.1, 0.9)
+
+
+def _pipeline_by_name(name, seed, roi=None):
+    """What ``sklearn-hardness evaluate --pipelines NAME --seed SEED [--roi ...]`` fits."""
+    return _estimators([name], None, roi, seed)[name]
 
 
 def test_renamed_variants_build_what_evaluate_built_before():

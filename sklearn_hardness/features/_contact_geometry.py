@@ -15,6 +15,7 @@ texture, and how they grow against each other.
 from __future__ import annotations
 
 import numbers
+import os
 
 import cv2
 import numpy as np
@@ -23,7 +24,8 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
 from ..utils._frames import as_float255, check_float_range
-from ..utils._param_validation import Interval, fit_context
+from ..utils._param_validation import HasMethods, Interval, fit_context
+from ..utils._press_cache import press_rows
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
 from ._common import check_feature_names, feature_columns
@@ -352,6 +354,12 @@ class ContactGeometryFeatures(TransformerMixin, BaseEstimator):
         height and width, before averaging.
     n_jobs : int or None, default=None
         Videos processed in parallel (joblib threads).
+    memory : None, str, path-like or joblib.Memory, default=None
+        Cache each press's row here (a folder or a :class:`joblib.Memory`),
+        keyed by the parameters that change it and by the press, so that a
+        later transform of the press (another fold, another run) reads it
+        (how presses are keyed: :func:`~sklearn_hardness.models.make_named_pipeline`).
+        Rows hold every feature: another ``features`` reads them. None: no cache.
 
     Attributes
     ----------
@@ -397,15 +405,17 @@ class ContactGeometryFeatures(TransformerMixin, BaseEstimator):
         "sigma": [Interval(numbers.Real, 0, None, closed="left")],
         "roi": [None, tuple, list],
         "n_jobs": [numbers.Integral, None],
+        "memory": [None, str, os.PathLike, HasMethods(["cache"])],
     }
 
-    def __init__(self, features="all", max_side=80, noise_factor=4.0, sigma=1.0, roi=None, n_jobs=None):
+    def __init__(self, features="all", max_side=80, noise_factor=4.0, sigma=1.0, roi=None, n_jobs=None, memory=None):
         self.features = features
         self.max_side = max_side
         self.noise_factor = noise_factor
         self.sigma = sigma
         self.roi = roi
         self.n_jobs = n_jobs
+        self.memory = memory
 
     @fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
@@ -447,10 +457,9 @@ class ContactGeometryFeatures(TransformerMixin, BaseEstimator):
         check_is_fitted(self)
         X = check_video_sequence(X)
         roi = check_roi(self.roi)
-        rows = Parallel(n_jobs=self.n_jobs, prefer="threads")(
-            delayed(_press_row)(X[i], self.max_side, self.noise_factor, self.sigma, roi, f"video {i}")
-            for i in range(len(X)))
-        return np.vstack(rows)[:, feature_columns(self.features_, FEATURE_NAMES)]
+        rows = press_rows(_press_row, X, dict(max_side=self.max_side, noise_factor=self.noise_factor,
+                                              sigma=self.sigma, roi=roi), memory=self.memory, n_jobs=self.n_jobs)
+        return rows[:, feature_columns(self.features_, FEATURE_NAMES)]
 
     def get_feature_names_out(self, input_features=None):
         """Names of the features.

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numbers
+import os
 
 import cv2
 import numpy as np
@@ -11,7 +12,8 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
 from ..utils._frames import as_float255, check_float_range
-from ..utils._param_validation import Interval, StrOptions, fit_context
+from ..utils._param_validation import HasMethods, Interval, StrOptions, fit_context
+from ..utils._press_cache import press_rows
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
 from ._common import check_feature_names, feature_columns
@@ -216,6 +218,12 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         :func:`~sklearn_hardness.models.make_peak_change_baseline`.
     n_jobs : int or None, default=None
         Videos processed in parallel (joblib threads).
+    memory : None, str, path-like or joblib.Memory, default=None
+        Cache each press's row here (a folder or a :class:`joblib.Memory`),
+        keyed by the parameters that change it and by the press, so that a
+        later transform of the press (another fold, another run) reads it
+        (how presses are keyed: :func:`~sklearn_hardness.models.make_named_pipeline`).
+        Every feature is cached, whichever ``features`` are output. None: no cache.
 
     Attributes
     ----------
@@ -263,14 +271,16 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         "noise_factor": [Interval(numbers.Real, 0, None, closed="neither")],
         "roi": [None, tuple, list],
         "n_jobs": [numbers.Integral, None],
+        "memory": [None, str, os.PathLike, HasMethods(["cache"])],
     }
 
-    def __init__(self, features="all", max_side=80, noise_factor=3.0, roi=None, n_jobs=None):
+    def __init__(self, features="all", max_side=80, noise_factor=3.0, roi=None, n_jobs=None, memory=None):
         self.features = features
         self.max_side = max_side
         self.noise_factor = noise_factor
         self.roi = roi
         self.n_jobs = n_jobs
+        self.memory = memory
 
     @fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
@@ -308,9 +318,9 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         check_is_fitted(self)
         X = check_video_sequence(X)
         roi = check_roi(self.roi)
-        rows = Parallel(n_jobs=self.n_jobs, prefer="threads")(
-            delayed(_profile)(X[i], self.max_side, self.noise_factor, roi, f"video {i}") for i in range(len(X)))
-        return np.vstack(rows)[:, feature_columns(self.features_, FEATURE_NAMES)]
+        rows = press_rows(_profile, X, dict(max_side=self.max_side, noise_factor=self.noise_factor, roi=roi),
+                          memory=self.memory, n_jobs=self.n_jobs)
+        return rows[:, feature_columns(self.features_, FEATURE_NAMES)]
 
     def get_feature_names_out(self, input_features=None):
         """Names of the features.

@@ -16,15 +16,16 @@ from __future__ import annotations
 
 import functools
 import numbers
+import os
 
 import cv2
 import numpy as np
-from joblib import Parallel, delayed
 from skimage.feature import graycomatrix, graycoprops, local_binary_pattern
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ..utils._param_validation import Interval, StrOptions, fit_context
+from ..utils._param_validation import HasMethods, Interval, StrOptions, fit_context
+from ..utils._press_cache import press_rows
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video_sequence
 from ._common import check_feature_names
@@ -293,6 +294,12 @@ class ImprintTextureFeatures(TransformerMixin, BaseEstimator):
         height and width, before averaging.
     n_jobs : int or None, default=None
         Videos processed in parallel (joblib threads).
+    memory : None, str, path-like or joblib.Memory, default=None
+        Cache each press's row here (a folder or a :class:`joblib.Memory`),
+        keyed by the parameters that change it and by the press, so that a
+        later transform of the press (another fold, another run) reads it
+        (how presses are keyed: :func:`~sklearn_hardness.models.make_named_pipeline`).
+        None: compute every row.
 
     Attributes
     ----------
@@ -350,16 +357,18 @@ class ImprintTextureFeatures(TransformerMixin, BaseEstimator):
         "noise_factor": [Interval(numbers.Real, 0, None, closed="neither")],
         "roi": [None, tuple, list],
         "n_jobs": [numbers.Integral, None],
+        "memory": [None, str, os.PathLike, HasMethods(["cache"])],
     }
 
     def __init__(self, descriptors="all", moments=(0.5, 1.0), max_side=160, noise_factor=3.0, roi=None,
-                 n_jobs=None):
+                 n_jobs=None, memory=None):
         self.descriptors = descriptors
         self.moments = moments
         self.max_side = max_side
         self.noise_factor = noise_factor
         self.roi = roi
         self.n_jobs = n_jobs
+        self.memory = memory
 
     @fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
@@ -398,11 +407,10 @@ class ImprintTextureFeatures(TransformerMixin, BaseEstimator):
         check_is_fitted(self)
         X = check_video_sequence(X)
         roi = check_roi(self.roi)
-        rows = Parallel(n_jobs=self.n_jobs, prefer="threads")(
-            delayed(_press_row)(X[i], self.moments_, self.descriptors_, self.max_side, self.noise_factor, roi,
-                                f"video {i}")
-            for i in range(len(X)))
-        return np.vstack(rows).astype(np.float64, copy=False)
+        rows = press_rows(_press_row, X, dict(moments=self.moments_, descriptors=self.descriptors_,
+                                              max_side=self.max_side, noise_factor=self.noise_factor, roi=roi),
+                          memory=self.memory, n_jobs=self.n_jobs)
+        return rows.astype(np.float64, copy=False)
 
     def get_feature_names_out(self, input_features=None):
         """Names of the features: the moment's name, then the descriptor's column (``"peak_lbp8_3"``).

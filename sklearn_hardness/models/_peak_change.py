@@ -14,12 +14,18 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import FunctionTransformer, StandardScaler
 
 from ..preprocessing import contact_curve
+from ..utils._press_cache import press_rows
 from ..utils._validation import check_roi
 
 __all__ = ["make_peak_change_baseline", "peak_contact_change"]
 
 
-def peak_contact_change(videos, roi=None):
+def _peak_row(video, roi=None, name="video"):
+    """The one number of one press, as a row (``name`` is unused: the contact curve names no video)."""
+    return np.array([np.log(0.1 + float(np.max(contact_curve(video, roi=roi))))])
+
+
+def peak_contact_change(videos, roi=None, memory=None):
     """Log of the peak mean absolute change to the first frame, one per video.
 
     The one number a first look at a press gives: the maximum of
@@ -32,6 +38,15 @@ def peak_contact_change(videos, roi=None):
     roi : tuple (top, bottom, left, right) or None, default=None
         Only this region of each frame (fractions of its height and width),
         e.g. the gel where the frame also shows the sensor housing.
+    memory : None, str, path-like or joblib.Memory, default=None
+        Cache each press's number here, keyed by ``roi`` and the press (a
+        video of a lazy sequence by its loader and key, without decoding it;
+        a video in memory by a hash of its frames), so that a later call on
+        the same press reads it. The
+        :class:`~sklearn.preprocessing.FunctionTransformer` of
+        :func:`make_peak_change_baseline` passes it through ``kw_args``
+        (what :func:`~sklearn_hardness.models.make_named_pipeline` does
+        with its ``memory``).
 
     Returns
     -------
@@ -49,7 +64,9 @@ def peak_contact_change(videos, roi=None):
     [[0.095]]
     """
     roi = check_roi(roi)
-    return np.array([[np.log(0.1 + float(np.max(contact_curve(v, roi=roi))))] for v in videos])
+    if memory is None:
+        return np.array([_peak_row(v, roi) for v in videos])
+    return press_rows(_peak_row, videos, {"roi": roi}, memory=memory)
 
 
 def make_peak_change_baseline(class_weight="balanced", roi=None):

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import numbers
+import os
+import pickle
 from collections import OrderedDict
 from collections.abc import Sequence
 
+import joblib
 import numpy as np
 
 __all__ = ["LazyVideoSequence"]
@@ -54,6 +57,7 @@ class LazyVideoSequence(Sequence):
         self.keys = list(keys)
         self.cache_size = int(cache_size)
         self._cache = OrderedDict()
+        self._loader_hash = [None]  # of cache_keys, one holder shared with subsets (a simulation's takes ~0.1 s)
 
     def __len__(self):
         return len(self.keys)
@@ -115,7 +119,41 @@ class LazyVideoSequence(Sequence):
         return self._subset([self.keys[i] for i in idx.tolist()])
 
     def _subset(self, keys):
-        return type(self)(self.loader, keys, cache_size=self.cache_size)
+        subset = type(self)(self.loader, keys, cache_size=self.cache_size)
+        subset._loader_hash = getattr(self, "_loader_hash", subset._loader_hash)
+        return subset
+
+    def cache_keys(self):
+        """One string per video that names its frames without loading them.
+
+        The hash of the ``loader`` and the video's key, and, where the key
+        names a file, the file's size and modification time (a file written
+        again gets a new string). The same video of two sequences (a subset,
+        a fold of a cross-validation, another run) gets the same string: the
+        feature steps given a ``memory`` key each press's cached row by it,
+        so that a cache hit decodes no video.
+
+        Returns
+        -------
+        keys : list of str or None
+            One per video, in order; None where the loader cannot be pickled
+            (a lambda, a local function), so that it names nothing stable.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from sklearn_hardness.utils._lazy import LazyVideoSequence
+        >>> videos = LazyVideoSequence(np.zeros, [(2, 4, 4, 3), (3, 4, 4, 3)])
+        >>> videos[[1]].cache_keys() == videos.cache_keys()[1:]
+        True
+        """
+        holder = self.__dict__.setdefault("_loader_hash", [None])  # (absent from sequences pickled before it)
+        if holder[0] is None:
+            try:
+                holder[0] = joblib.hash(self.loader)
+            except (pickle.PicklingError, TypeError, AttributeError):
+                return None
+        return [joblib.hash((holder[0], key, _file_stamp(key))) for key in self.keys]
 
     def concatenate(self, other):
         """The videos of ``self`` followed by those of ``other``, still lazy.
@@ -149,3 +187,14 @@ class LazyVideoSequence(Sequence):
         state = self.__dict__.copy()
         state["_cache"] = OrderedDict()
         return state
+
+
+def _file_stamp(key):
+    """``(size, mtime_ns)`` of the file a key names, or None where it names none."""
+    if not isinstance(key, (str, os.PathLike)):
+        return None
+    try:
+        stat = os.stat(key)
+    except (OSError, ValueError):
+        return None
+    return stat.st_size, stat.st_mtime_ns
