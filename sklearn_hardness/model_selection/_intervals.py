@@ -14,7 +14,7 @@ from __future__ import annotations
 import numbers
 
 import numpy as np
-from ..utils._param_validation import Interval, validate_params
+from sklearn.utils._param_validation import Interval, validate_params
 
 from ..utils._intervals import _interval
 
@@ -75,8 +75,8 @@ def corrected_interval(scores, test_train_ratio=0.0, *, baseline=None, df=None, 
     interval : (float, float)
         ``(nan, nan)`` with fewer than two finite values: one fold carries
         no interval. With fewer than ``MIN_VALUES_FOR_INTERVAL`` (5) degrees
-        of freedom + 1 the interval is computed but the printed tables
-        print words instead.
+        of freedom + 1 the interval is computed but the reports
+        (:func:`format_evaluation`, ``str(result)``) print words instead.
 
     Examples
     --------

@@ -31,13 +31,13 @@ import numpy as np
 
 from _estimate_modulus import GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
 import _harness  # noqa: F401 - puts the repository root on sys.path
+from _evaluate_dataset import evaluate_dataset
 from harness.memory import peak_rss_mb
 from harness.provenance import write_output
 from sim_confounds import recall_per_rank
 from sim_to_real import simulated
 from sim_vs_real_stats import parse_param
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.model_selection import evaluate_pipelines
 from sklearn_hardness.models import make_convlstm_pipeline
 
 
@@ -101,7 +101,7 @@ def main():
     for seed in args.seeds:
         data = make_presses("everyday", random_state=seed, **variant)
         named = {spec: pipeline(spec, seed) for spec in args.augmenters}
-        res = evaluate_pipelines(data, named, n_jobs=args.n_jobs, random_state=seed, verbose=0)
+        res = evaluate_dataset(data, named, n_jobs=args.n_jobs, random_state=seed, verbose=0)
         table = {row["pipeline"]: row for row in res.table}
         base = table["peak_change"]["balanced_accuracy"]
         if real is not None:  # every 2nd pixel, as sim_to_real trains

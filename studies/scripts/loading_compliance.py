@@ -82,9 +82,9 @@ def main(argv=None):
     ap.add_argument("--n-jobs", type=int, default=2)
     ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
     args = ap.parse_args(argv)
-    from sklearn_hardness.model_selection import evaluate_pipelines
-
+    from _evaluate_dataset import evaluate_dataset
     from harness.provenance import report
+    from sklearn_hardness.datasets import make_presses
 
     t0 = time.perf_counter()
     reset_peak()
@@ -93,8 +93,9 @@ def main(argv=None):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)  # the preset's cut-short presses: NaN figures, imputed
         for seed in args.seeds:
-            result = evaluate_pipelines("everyday", ["contact_profile", "loading_compliance"], random_state=seed,
-                                        n_jobs=args.n_jobs, verbose=0)
+            result = evaluate_dataset(make_presses("everyday", random_state=seed),
+                                      ["contact_profile", "loading_compliance"], random_state=seed,
+                                      n_jobs=args.n_jobs, verbose=0)
             table = {row["pipeline"]: row for row in result.table}
             rows.append((seed, table, result.recommended))
             across.append(across_forces(seed, args.firm_force))

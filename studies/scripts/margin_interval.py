@@ -57,7 +57,7 @@ from sklearn.utils import Bunch
 import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.memory import peak_rss_mb
 from harness.provenance import report
-from sklearn_hardness.model_selection import evaluate_pipelines
+from _evaluate_dataset import evaluate_dataset
 
 N_OBJECTS, PER_OBJECT, CV = 42, 4, 5
 
@@ -83,7 +83,7 @@ def one_draw(seed, gains, n_repeats=1):
     evaluate's), and whether evaluate's decision is the same with another fold seed."""
     data = make_objects(np.random.default_rng(seed), gains)
     pipes = {"peak_change": on_feature(0), "other": on_feature(1)}
-    result = evaluate_pipelines(data, pipes, cv=CV, n_repeats=n_repeats, random_state=seed, verbose=0)
+    result = evaluate_dataset(data, pipes, cv=CV, n_repeats=n_repeats, random_state=seed, verbose=0)
     diff = result.fold_scores["other"] - result.fold_scores["peak_change"]
     t = stats.t.ppf(0.975, len(diff) - 1)
     plain = diff.mean() - t * diff.std(ddof=1) / np.sqrt(len(diff))
@@ -91,7 +91,7 @@ def one_draw(seed, gains, n_repeats=1):
     ratio = np.mean([len(test) / (n - len(test)) for test in result.folds])
     all_df = diff.mean() - t * np.sqrt(diff.var(ddof=1) * (1 / len(diff) + ratio))
     low = result.table[1]["vs_baseline_ci"][0]
-    other = evaluate_pipelines(data, pipes, cv=CV, n_repeats=n_repeats, random_state=seed + 500_000, verbose=0)
+    other = evaluate_dataset(data, pipes, cv=CV, n_repeats=n_repeats, random_state=seed + 500_000, verbose=0)
     same = (low > 0) == (other.table[1]["vs_baseline_ci"][0] > 0)
     return diff.mean(), plain, all_df, low, same
 
@@ -100,7 +100,7 @@ def family_draw(seed, k, n_repeats=1):
     """Whether evaluate recommends any of ``k`` pipelines as good as the baseline."""
     data = make_objects(np.random.default_rng(seed), [0.7] * (k + 1))
     pipes = {"peak_change": on_feature(0), **{f"equal{j}": on_feature(j) for j in range(1, k + 1)}}
-    result = evaluate_pipelines(data, pipes, cv=CV, n_repeats=n_repeats, random_state=seed, verbose=0)
+    result = evaluate_dataset(data, pipes, cv=CV, n_repeats=n_repeats, random_state=seed, verbose=0)
     return result.recommended is not None
 
 

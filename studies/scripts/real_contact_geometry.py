@@ -35,13 +35,12 @@ import time
 import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.preprocessing import StandardScaler
-from sklearn.utils import Bunch
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.provenance import header
 from _physiclear import load_development
 from sklearn_hardness.features import ContactGeometryFeatures, ContactProfileFeatures
-from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation
+from sklearn_hardness.model_selection import evaluate_pipelines
 from sklearn_hardness.models import (ContactProfileNNClassifier, LaplaceLogisticRegression, MCDropoutPipeline,
                                      make_contact_profile_pipeline)
 
@@ -130,11 +129,11 @@ def main(argv=None):
 
     pipelines = {"contact_profile": make_contact_profile_pipeline()}
     pipelines.update({name: _pipeline(table, names, cols, head, 0) for name, (cols, head) in VARIANTS.items()})
-    dataset = Bunch(videos=strided, target=data.target, target_names=data.target_names,
-                    object_id=data.object_id, **({"hardness": data.hardness} if "hardness" in data else {}))
-    result = evaluate_pipelines(dataset, pipelines, cv=5, n_repeats=args.n_repeats, n_jobs=args.n_jobs,
+    result = evaluate_pipelines(pipelines, strided, data.target, groups=data.object_id, cv=5,
+                                n_repeats=args.n_repeats, target_names=data.target_names,
+                                hardness=data.get("hardness"), error_score="raise", n_jobs=args.n_jobs,
                                 random_state=0, verbose=0)
-    print(format_evaluation(result))
+    print(result)
     print()
     print("| pipeline | features | per press [95% CI] | vs peak [95% CI] | per object [95% CI] | "
           "vs peak per object [95% CI] | fit+predict s |")

@@ -24,9 +24,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import _harness  # noqa: E402,F401 - puts the repository root on sys.path
 from harness.provenance import report  # noqa: E402
+from _evaluate_dataset import evaluate_dataset  # noqa: E402
 from _physiclear import load_development  # noqa: E402
 
-from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation  # noqa: E402
 from sklearn_hardness.models import make_named_pipeline  # noqa: E402
 
 
@@ -41,9 +41,9 @@ def main(argv=None):
     start = time.perf_counter()
     pipelines = {"convlstm_intensity_augment": make_named_pipeline("convlstm_intensity", augment=True,
                                                                    random_state=0)}
-    result = evaluate_pipelines(load_development(args.data), pipelines, cv=5, n_repeats=args.n_repeats,
-                                n_jobs=args.n_jobs, random_state=0)
-    text = format_evaluation(result) + f"\ntotal {time.perf_counter() - start:.0f} s"
+    result = evaluate_dataset(load_development(args.data), pipelines, cv=5, n_repeats=args.n_repeats,
+                              n_jobs=args.n_jobs, random_state=0, verbose=1)
+    text = f"{result}\ntotal {time.perf_counter() - start:.0f} s"
     report(text, args.out)
 
 

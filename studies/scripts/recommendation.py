@@ -28,8 +28,8 @@ import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.memory import peak_rss_mb
 from harness.provenance import report
 from sim_vs_real_stats import parse_param
+from _evaluate_dataset import evaluate_dataset
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.model_selection import evaluate_pipelines
 
 
 def margins(result):
@@ -58,7 +58,7 @@ def main():
     for seed in args.seeds:
         t0 = time.perf_counter()
         data = make_presses("everyday", random_state=seed, **variant)
-        result = evaluate_pipelines(data, n_jobs=args.n_jobs, random_state=seed, verbose=0)
+        result = evaluate_dataset(data, n_jobs=args.n_jobs, random_state=seed, verbose=0)
         per_seed[seed] = margins(result)
         recommended[seed] = (result.recommended, result.recommended_with_samples)
         cells = ", ".join(f"{name} {m:+.2f} [{lo:+.2f}, {hi:+.2f}]" for name, (m, (lo, hi)) in per_seed[seed].items())

@@ -42,14 +42,13 @@ import sys
 import time
 
 import numpy as np
-from sklearn.utils import Bunch
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.memory import peak_rss_mb
 from harness.provenance import report
+from _evaluate_dataset import evaluate_dataset
 from _sim_variants import VARIANTS
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.model_selection import evaluate_pipelines
 
 def recall_per_rank(confusion):
     """``"0.72 / 0.46 / 0.54"``: the recall of each class (row) of a confusion matrix, in its order."""
@@ -65,12 +64,11 @@ def kind_of(object_id):
 def run_variant(name, seed, n_jobs):
     overrides, groups = VARIANTS[name]
     data = make_presses("everyday", random_state=seed, **overrides)
-    if groups == "kind":
-        data = Bunch(**dict(data.items()))
-        data["object_id"] = np.array([kind_of(o) for o in data.object_id])
+    # grouped by kind, the per-object scores class each kind (its presses' mean probabilities)
+    groups = np.array([kind_of(o) for o in data.object_id]) if groups == "kind" else data.object_id
     t0 = time.perf_counter()
-    result = evaluate_pipelines(data, n_jobs=n_jobs, random_state=seed, verbose=0)
-    return result, time.perf_counter() - t0, len(np.unique(data.object_id))
+    result = evaluate_dataset(data, groups=groups, n_jobs=n_jobs, random_state=seed, verbose=0)
+    return result, time.perf_counter() - t0, len(np.unique(groups))
 
 
 def main():
