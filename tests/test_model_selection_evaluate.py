@@ -1111,4 +1111,5 @@ def test_family_groups_keep_the_per_object_figures_by_object(tiny):
     for test in result.folds:
         train = np.setdiff1d(np.arange(len(tiny.target)), test)
         assert not set(family[test]) & set(family[train])
-    assert np.array_equal(result.groups, tiny.object_id)  # per-object scoring by object, not by family
+    assert np.array_equal(result.objects, tiny.object_id)  # per-object scoring by object, not by family
+    assert "group-disjoint" in str(result)

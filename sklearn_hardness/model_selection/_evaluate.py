@@ -629,5 +629,6 @@ def evaluate_pipelines(estimators, X, y, *, groups=None, cv=5, n_repeats=1, base
     return EvaluationResult(table=table, fold_scores=fold_scores, object_fold_scores=object_fold_scores,
                             predictions=predictions, confusion=confusion, recommended=recommended,
                             recommended_with_samples=with_samples, baseline=base, notes=notes, target=y,
-                            target_names=target_names, groups=objects, folds=[test for _, test in folds],
+                            target_names=target_names, groups=objects if groups is None else groups, objects=objects,
+                            folds=[test for _, test in folds],
                             n_repeats=n_repeats)

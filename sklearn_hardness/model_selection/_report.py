@@ -32,7 +32,9 @@ def format_evaluation(result):
     n_folds = result.table[0]["n_folds"] if result.table else 0
     n_repeats = getattr(result, "n_repeats", 1)
     repeats = f" x {n_repeats} repetitions" if n_repeats > 1 else ""
-    lines = [f"object-disjoint {n_folds}-fold CV{repeats}, {len(np.unique(result.groups))} objects, "
+    n_objects, n_groups = len(np.unique(result.objects)), len(np.unique(result.groups))
+    disjoint = "object-disjoint" if n_groups == n_objects else f"group-disjoint ({n_groups} groups of objects)"
+    lines = [f"{disjoint} {n_folds}-fold CV{repeats}, {n_objects} objects, "
              f"{len(result.target)} presses, chance {result.chance:.2f}; 95% t-intervals corrected for the "
              "folds' overlapping training sets (Nadeau-Bengio), clipped to the score's range"]
     if n_folds < MIN_VALUES_FOR_INTERVAL:
@@ -59,7 +61,7 @@ def _object_lines(result, width):
     Nothing when every object has one press (the figures are those above).
     """
     rows = [r for r in result.table if r.get("object_balanced_accuracy") is not None]
-    _, presses = np.unique(result.groups, return_counts=True)
+    _, presses = np.unique(result.objects, return_counts=True)
     if not rows or presses.max() == 1:
         return []
     lines = [f"per object: each test object classed by the mean of its presses' predicted probabilities "

@@ -88,8 +88,14 @@ class EvaluationResult:
         Name of the baseline pipeline.
     notes : list of str
         What the per-press steps found that the folds' warnings would say.
-    target, target_names, groups : ndarray
-        Labels, class names and the group of each press.
+    target, target_names : ndarray
+        Labels and class names.
+    groups : ndarray
+        The group of each press that no fold splits (``groups`` of
+        :func:`evaluate_pipelines`: the object, or e.g. its family).
+    objects : ndarray
+        The object of each press, by which the per-object figures pool
+        presses (``objects``, else ``groups``).
     folds : list of ndarray
         The test indices of every fold.
     n_repeats : int
@@ -99,7 +105,8 @@ class EvaluationResult:
     """
 
     def __init__(self, *, table, fold_scores, object_fold_scores, predictions, confusion, recommended,
-                 recommended_with_samples, baseline, notes, target, target_names, groups, folds, n_repeats):
+                 recommended_with_samples, baseline, notes, target, target_names, groups, folds, n_repeats,
+                 objects=None):
         self.table = table
         self.summary = SummaryTable.from_rows(table)
         self.fold_scores = fold_scores
@@ -116,6 +123,7 @@ class EvaluationResult:
         self.target = target
         self.target_names = target_names
         self.groups = groups
+        self.objects = groups if objects is None else objects
         self.folds = folds
         self.n_repeats = n_repeats
         self.chance = 1.0 / len(target_names)
