@@ -161,7 +161,7 @@ def _reproduce_config(args):
 def _run_reproduce(args):
     import time
 
-    from ..datasets._lazy import UnreadableVideosError
+    from ..utils._unreadable import UnreadableVideosError
     from ..experiments import (
         comparison_table,
         format_paired_table,

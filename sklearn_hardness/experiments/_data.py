@@ -21,15 +21,14 @@ from sklearn.utils import Bunch
 from tqdm.auto import tqdm
 
 from ..datasets import load_press_videos, make_presses
-from ..datasets._lazy import raise_unreadable
-from ..features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, LoadingCompliance,
-                        OpticalFlowFeatures)
-from ..models._pipelines import _log_positive
+from ..features import ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
+from ..models import make_loading_compliance_pipeline
 from ..preprocessing import ContactFrameSelector
+from ..utils._force_position import force_position
+from ..utils._unreadable import raise_unreadable
 from ..utils._validation import rename_videos
 from ..utils._warnings import external_stacklevel
 from ._config import MODEL_NAMES
-from ..model_selection._force_position import force_position
 from ._models import feature_params as _feature_params
 from ._models import frame_params as _frame_params
 
@@ -150,9 +149,9 @@ def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=N
     if feature_params is not None and feature_params["kind"] == "loading_compliance":
         # each press's force and position, no video: the factory's features and log steps (stateless);
         # its imputer and scaler are fitted per run (experiments._models.input_scaler)
-        step = LoadingCompliance(features=feature_params["features"], onset=feature_params["onset"],
-                                 drive_compliance=feature_params["drive_compliance"])
-        X = _log_positive(step.fit_transform(force_position(data, ["loading_compliance"]))).astype(np.float32)
+        steps = make_loading_compliance_pipeline(features=feature_params["features"], onset=feature_params["onset"],
+                                                 drive_compliance=feature_params["drive_compliance"])[:2]
+        X = steps.fit_transform(force_position(data, ["loading_compliance"])).astype(np.float32)
     else:
         try:
             X = _video_inputs(data["videos"], frame_params, feature_params, verbose, n_jobs)
