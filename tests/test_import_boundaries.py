@@ -46,17 +46,9 @@ CROSS_SUBPACKAGE_ALLOWED = set()
 CROSS_SUBPACKAGE_PENDING = {
     ("sklearn_hardness/_cli/_cache.py", "sklearn_hardness.experiments._data.clear_cache"),
     ("sklearn_hardness/_cli/_cache.py", "sklearn_hardness.experiments._data.default_cache_dir"),
-    ("sklearn_hardness/_cli/_record.py", "sklearn_hardness.datasets._manifest.append_manifest_row"),
-    ("sklearn_hardness/_cli/_record.py", "sklearn_hardness.datasets._manifest.complete_manifest_row"),
     ("sklearn_hardness/_cli/_reproduce.py", "sklearn_hardness.experiments._protocol.run_paper_protocol"),
-    ("sklearn_hardness/_cli/_reproduce.py", "sklearn_hardness.active._strategies.check_strategies"),
     ("sklearn_hardness/_cli/_reproduce.py", "sklearn_hardness.experiments._config.check_config"),
     ("sklearn_hardness/_cli/_reproduce.py", "sklearn_hardness.experiments._data.load_dataset"),
-    ("sklearn_hardness/_cli/_select.py", "sklearn_hardness.datasets._manifest.manifest_file"),
-    ("sklearn_hardness/experiments/_active.py", "sklearn_hardness.active._strategies.check_strategies"),
-    ("sklearn_hardness/experiments/_config.py", "sklearn_hardness.models._convergence.chance_scaled_threshold"),
-    ("sklearn_hardness/experiments/_models.py", "sklearn_hardness.models._callbacks.EarlyStoppingAfterFirstFit"),
-    ("sklearn_hardness/experiments/_models.py", "sklearn_hardness.models._pipelines.FrameScaler"),
 }
 
 

@@ -119,7 +119,7 @@ def _run_paper_protocol(args, config):
 def _reproduce_config(args):
     """The configuration overrides of ``reproduce``, every input checked before anything is written."""
     from .._experiment_names import STRATEGIES
-    from ..active._strategies import check_strategies
+    from ..active import check_strategies
     from ..datasets import load_press_videos
     from ..experiments import get_config
     from ..experiments._config import check_config

@@ -83,7 +83,7 @@ def _run_select(args):
 
     from ..datasets import load_press_videos
     from ..utils._unreadable import raise_unreadable
-    from ..datasets._manifest import manifest_file
+    from ..utils._manifest import manifest_file
     from ..preprocessing import ContactFrameSelector
     from ..utils._validation import check_roi, rename_videos
 

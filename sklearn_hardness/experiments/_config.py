@@ -20,7 +20,7 @@ import numpy as np
 from .._experiment_names import KEY_HELP as _KEY_HELP
 from .._experiment_names import QUICK_OVERRIDES
 from .._registry import pipeline_info
-from ..models._convergence import chance_scaled_threshold
+from ..models import chance_scaled_threshold
 from ..utils._param_validation import FRAME_SIZE, Interval, StrOptions, validate_parameter_constraints
 from ._models import MODEL_NAMES, default_frame_size, describe_model, selects_frames
 from ._models import input_name as _input_name
