@@ -40,16 +40,8 @@ PRIVATE_THIRD_PARTY_ALLOWED = set()
 CROSS_SUBPACKAGE_ALLOWED = set()
 
 
-#: NOT YET FIXED (issue 59 item 8, left for a follow-up): private cross-imports outside the four files
-#: above. Each needs a decision (make the name public in its subpackage's __init__, or move the
-#: helper to utils/); this set must end EMPTY too, and nothing may be added to it.
-CROSS_SUBPACKAGE_PENDING = {
-    ("sklearn_hardness/_cli/_cache.py", "sklearn_hardness.experiments._data.clear_cache"),
-    ("sklearn_hardness/_cli/_cache.py", "sklearn_hardness.experiments._data.default_cache_dir"),
-    ("sklearn_hardness/_cli/_reproduce.py", "sklearn_hardness.experiments._protocol.run_paper_protocol"),
-    ("sklearn_hardness/_cli/_reproduce.py", "sklearn_hardness.experiments._config.check_config"),
-    ("sklearn_hardness/_cli/_reproduce.py", "sklearn_hardness.experiments._data.load_dataset"),
-}
+#: Private cross-imports still to fix (issue 59 item 8 is done: keep it EMPTY; nothing may be added).
+CROSS_SUBPACKAGE_PENDING = set()
 
 
 def _private(part):

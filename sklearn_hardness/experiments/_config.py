@@ -218,7 +218,23 @@ _CONFIG_CONSTRAINTS = {
 
 
 def check_config(cfg):
-    """Validate a configuration (clear errors before any run starts)."""
+    """Check a configuration before any run starts, and complete it.
+
+    Parameters
+    ----------
+    cfg : dict
+        A configuration (:func:`get_config`).
+
+    Returns
+    -------
+    cfg : dict
+        The same dict, with the model's frame size written out.
+
+    Raises
+    ------
+    ValueError
+        A value out of range or keys that do not go together.
+    """
     validate_parameter_constraints(
         _CONFIG_CONSTRAINTS, {k: cfg[k] for k in _CONFIG_CONSTRAINTS}, caller_name="the experiment configuration"
     )

@@ -56,12 +56,23 @@ def _dataset_spec(dataset, cfg):
 
 
 def load_dataset(dataset, cfg):
-    """The dataset as a Bunch (``videos``, ``target``, ``hardness``, ...).
+    """The dataset an experiment runs on, as a Bunch.
 
-    ``dataset`` is a simulator preset name (``"silicone5"``, ``"shore9"``,
-    ``"everyday"``, simulated with ``cfg["image_size"]`` and ``cfg["data_seed"]``), the path
-    of a manifest CSV (:func:`~sklearn_hardness.datasets.load_press_videos`)
-    or a Bunch with at least ``videos`` and ``target``.
+    Parameters
+    ----------
+    dataset : str, path-like or Bunch
+        A simulator preset name (``"silicone5"``, ``"shore9"``,
+        ``"everyday"``, simulated with ``cfg["image_size"]`` and
+        ``cfg["data_seed"]``), the path of a manifest CSV
+        (:func:`~sklearn_hardness.datasets.load_press_videos`) or a Bunch
+        with at least ``videos`` and ``target``.
+    cfg : dict
+        A configuration (:func:`get_config`).
+
+    Returns
+    -------
+    data : Bunch
+        ``videos`` (loaded lazily), ``target``, ``hardness``, ...
     """
     spec = _dataset_spec(dataset, cfg)
     if spec is not None and spec[0] == "make_presses":
@@ -176,15 +187,30 @@ def _code_fingerprint():
 
 
 def default_cache_dir():
-    """Where prepared inputs are cached: ``$SKLEARN_HARDNESS_CACHE`` or ``~/.cache/sklearn_hardness``."""
+    """Where the experiments cache prepared inputs by default.
+
+    Returns
+    -------
+    folder : str
+        ``$SKLEARN_HARDNESS_CACHE`` where set, else ``~/.cache/sklearn_hardness``.
+    """
     return os.environ.get("SKLEARN_HARDNESS_CACHE") or os.path.join(
         os.path.expanduser("~"), ".cache", "sklearn_hardness")
 
 
 def clear_cache(folder=None):
-    """Delete the cached inputs (``inputs-*.npz``) in ``folder``; return the paths removed.
+    """Delete the cached inputs (``inputs-*.npz``) in ``folder``.
 
-    ``folder`` defaults to :func:`default_cache_dir`; other files are left alone.
+    Parameters
+    ----------
+    folder : str or path-like, default=None
+        The cache folder; None is :func:`default_cache_dir`. Other files in
+        it are left alone.
+
+    Returns
+    -------
+    removed : list of str
+        The paths removed.
     """
     folder = default_cache_dir() if folder is None else os.fspath(folder)
     if not os.path.isdir(folder):
