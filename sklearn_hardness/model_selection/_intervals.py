@@ -75,8 +75,8 @@ def corrected_interval(scores, test_train_ratio=0.0, *, baseline=None, df=None, 
     interval : (float, float)
         ``(nan, nan)`` with fewer than two finite values: one fold carries
         no interval. With fewer than ``MIN_VALUES_FOR_INTERVAL`` (5) degrees
-        of freedom + 1 the interval is computed but :func:`format_interval`
-        prints words instead.
+        of freedom + 1 the interval is computed but the tables
+        print words instead.
 
     Examples
     --------
