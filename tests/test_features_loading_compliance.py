@@ -221,7 +221,7 @@ def test_active_sampling_runs_on_force_and_position_and_its_uncertainty_shrinks_
 def test_a_recording_against_the_input_conventions_is_warned_about():
     # a flipped force sign, a position that falls (a gripper's width) or one in metres makes every press
     # alike after the log floor: the warning says what to fix, where most presses break the convention
-    from sklearn_hardness.features._loading_compliance import ConventionWarning
+    from sklearn_hardness.features import ConventionWarning
 
     presses = [hertz_press(c, 5.0) for c in np.linspace(0.2, 1.5, 12)]
     with warnings.catch_warnings():

@@ -37,45 +37,11 @@ PUBLIC_UNDERSCORE_NAMES = {("sklearn.utils", "_safe_indexing")}
 #: must end EMPTY: delete an entry as soon as its file no longer makes that import (the test
 #: fails on a stale entry too).
 PRIVATE_THIRD_PARTY_ALLOWED = set()
-CROSS_SUBPACKAGE_ALLOWED = {
-    ("sklearn_hardness/_cli/_evaluate.py", "sklearn_hardness.experiments._results._to_json"),
-    ("sklearn_hardness/_cli/_evaluate.py", "sklearn_hardness.model_selection._force_position.force_position"),
-    ("sklearn_hardness/_cli/_evaluate.py",
-     "sklearn_hardness.model_selection._force_position.presses_lacking_force_position"),
-    ("sklearn_hardness/experiments/_data.py", "sklearn_hardness.datasets._lazy.raise_unreadable"),
-    ("sklearn_hardness/experiments/_data.py", "sklearn_hardness.models._pipelines._log_positive"),
-    ("sklearn_hardness/experiments/_data.py", "sklearn_hardness.model_selection._force_position.force_position"),
-    ("sklearn_hardness/model_selection/_evaluate.py", "sklearn_hardness.datasets._lazy.raise_unreadable"),
-    ("sklearn_hardness/model_selection/_evaluate.py",
-     "sklearn_hardness.features._loading_compliance.ConventionWarning"),
-    ("sklearn_hardness/model_selection/_evaluate.py", "sklearn_hardness.preprocessing._contact_curve._STATUSES"),
-    ("sklearn_hardness/model_selection/_per_press.py", "sklearn_hardness.features._common.feature_columns"),
-    ("sklearn_hardness/model_selection/_per_press.py", "sklearn_hardness.features._contact_profile.FEATURE_NAMES"),
-    ("sklearn_hardness/model_selection/_per_press.py",
-     "sklearn_hardness.models._peak_change.peak_contact_change"),
-}
+CROSS_SUBPACKAGE_ALLOWED = set()
 
 
-#: NOT YET FIXED (issue 59 item 8, left for a follow-up): private cross-imports outside the four files
-#: above. Each needs a decision (make the name public in its subpackage's __init__, or move the
-#: helper to utils/); this set must end EMPTY too, and nothing may be added to it.
-CROSS_SUBPACKAGE_PENDING = {
-    ("sklearn_hardness/_cli/_cache.py", "sklearn_hardness.experiments._data.clear_cache"),
-    ("sklearn_hardness/_cli/_cache.py", "sklearn_hardness.experiments._data.default_cache_dir"),
-    ("sklearn_hardness/_cli/_record.py", "sklearn_hardness.datasets._manifest.append_manifest_row"),
-    ("sklearn_hardness/_cli/_record.py", "sklearn_hardness.datasets._manifest.complete_manifest_row"),
-    ("sklearn_hardness/_cli/_reproduce.py", "sklearn_hardness.experiments._protocol.run_paper_protocol"),
-    ("sklearn_hardness/_cli/_reproduce.py", "sklearn_hardness.active._strategies.check_strategies"),
-    ("sklearn_hardness/_cli/_reproduce.py", "sklearn_hardness.experiments._config.check_config"),
-    ("sklearn_hardness/_cli/_reproduce.py", "sklearn_hardness.experiments._data.load_dataset"),
-    ("sklearn_hardness/_cli/_reproduce.py", "sklearn_hardness.datasets._lazy.UnreadableVideosError"),
-    ("sklearn_hardness/_cli/_select.py", "sklearn_hardness.datasets._lazy.raise_unreadable"),
-    ("sklearn_hardness/_cli/_select.py", "sklearn_hardness.datasets._manifest.manifest_file"),
-    ("sklearn_hardness/experiments/_active.py", "sklearn_hardness.active._strategies.check_strategies"),
-    ("sklearn_hardness/experiments/_config.py", "sklearn_hardness.models._convergence.chance_scaled_threshold"),
-    ("sklearn_hardness/experiments/_models.py", "sklearn_hardness.models._callbacks.EarlyStoppingAfterFirstFit"),
-    ("sklearn_hardness/experiments/_models.py", "sklearn_hardness.models._pipelines.FrameScaler"),
-}
+#: Private cross-imports still to fix (issue 59 item 8 is done: keep it EMPTY; nothing may be added).
+CROSS_SUBPACKAGE_PENDING = set()
 
 
 def _private(part):

@@ -19,7 +19,7 @@ from sklearn_hardness._registry import make_named_pipeline, pipeline_info
 from sklearn_hardness.model_selection import (ConfusionMatricesDisplay, EvaluationResult, corrected_interval,
                                               evaluate_pipelines, format_evaluation)
 from sklearn_hardness.model_selection._evaluate import _takes_force_position
-from sklearn_hardness.model_selection._force_position import force_position, presses_lacking_force_position
+from sklearn_hardness.utils._force_position import force_position, presses_lacking_force_position
 from sklearn_hardness.models import make_contact_profile_pipeline, make_peak_change_baseline, peak_contact_change
 
 

@@ -24,7 +24,7 @@ def _add_cache(sub):
 
 
 def _run_cache(args):
-    from ..experiments._data import clear_cache, default_cache_dir
+    from ..experiments import clear_cache, default_cache_dir
 
     folder = os.path.join(args.out, "cache") if args.out is not None else default_cache_dir()
     if args.out is not None and not os.path.isdir(args.out):

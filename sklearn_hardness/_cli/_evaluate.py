@@ -107,7 +107,7 @@ def _estimators(names, force_position, roi, seed):
 
 def _force_position(data, names):
     """Each press's (T, 2) force and position where ``names`` (None: the defaults) need or can use them."""
-    from ..model_selection._force_position import force_position, presses_lacking_force_position
+    from ..utils._force_position import force_position, presses_lacking_force_position
 
     if names is None:
         return None if presses_lacking_force_position(data) else force_position(data, ["loading_compliance"])
@@ -174,6 +174,6 @@ def _json_text(obj):
     """``obj`` as JSON that strict parsers read: NaN and infinities (a fold that failed) become null."""
     import json
 
-    from ..experiments._results import _to_json  # as results.jsonl is written
+    from ..utils._json import to_json  # as results.jsonl is written
 
-    return json.dumps(_to_json(obj), indent=1, allow_nan=False)
+    return json.dumps(to_json(obj), indent=1, allow_nan=False)

@@ -43,7 +43,7 @@ def _run_record(args):
 
     import cv2
 
-    from ..datasets._manifest import append_manifest_row, complete_manifest_row
+    from ..utils._manifest import append_manifest_row, complete_manifest_row
     from ..io import record_video
     from ..preprocessing import ContactFrameSelector
 

@@ -105,7 +105,7 @@ def _add_reproduce(sub):
 def _run_paper_protocol(args, config):
     import time
 
-    from ..experiments._protocol import run_paper_protocol
+    from ..experiments import run_paper_protocol
 
     t0 = time.time()
     text = run_paper_protocol(args.out, strategies=args.strategies, n_runs=args.n_runs, quick=args.quick,
@@ -119,11 +119,9 @@ def _run_paper_protocol(args, config):
 def _reproduce_config(args):
     """The configuration overrides of ``reproduce``, every input checked before anything is written."""
     from .._experiment_names import STRATEGIES
-    from ..active._strategies import check_strategies
+    from ..active import check_strategies
     from ..datasets import load_press_videos
-    from ..experiments import get_config
-    from ..experiments._config import check_config
-    from ..experiments._data import load_dataset
+    from ..experiments import check_config, get_config, load_dataset
 
     if args.protocol == "paper" and (args.dataset or args.model):
         raise _UsageError("--protocol paper runs the simulator presets with their models; it takes no "
@@ -161,7 +159,7 @@ def _reproduce_config(args):
 def _run_reproduce(args):
     import time
 
-    from ..datasets._lazy import UnreadableVideosError
+    from ..utils._unreadable import UnreadableVideosError
     from ..experiments import (
         comparison_table,
         format_paired_table,

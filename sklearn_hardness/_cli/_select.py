@@ -82,8 +82,8 @@ def _run_select(args):
     import numpy as np
 
     from ..datasets import load_press_videos
-    from ..datasets._lazy import raise_unreadable
-    from ..datasets._manifest import manifest_file
+    from ..utils._unreadable import raise_unreadable
+    from ..utils._manifest import manifest_file
     from ..preprocessing import ContactFrameSelector
     from ..utils._validation import check_roi, rename_videos
 

@@ -12,7 +12,8 @@ object, and press the most uncertain one again (Algorithm 1).
   :func:`margin_sampling`, :func:`mc_variance_sampling`,
   :func:`thompson_sampling`, :func:`random_sampling`: strategies, functions of the MC-dropout
   probabilities on the test presses, returning ``(class_indices, scores)``;
-  :func:`as_modal_strategy` adapts one to modAL.
+  :func:`as_modal_strategy` adapts one to modAL; :func:`check_strategies`
+  checks a list of them before a run.
 - :class:`ActiveLearner`: fit / query / teach with a capped training
   reservoir and warm-started retraining.
 - :class:`PressOracle`: draws unseen presses of a queried object from a pool.
@@ -23,6 +24,7 @@ from ._modal import as_modal_strategy
 from ._oracle import PressOracle
 from ._strategies import (
     bald_sampling,
+    check_strategies,
     entropy_sampling,
     margin_sampling,
     mc_variance_sampling,
@@ -45,4 +47,5 @@ __all__ = [
     "thompson_sampling",
     "random_sampling",
     "as_modal_strategy",
+    "check_strategies",
 ]

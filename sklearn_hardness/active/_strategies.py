@@ -509,7 +509,7 @@ def check_strategies(strategies):
     Raises
     ------
     ValueError
-        An empty list, an unknown name (see :func:`get_strategy`), or the
+        An empty list, an unknown name (one the package does not register), or the
         same strategy twice.
     """
     if isinstance(strategies, str) or callable(strategies):

@@ -13,7 +13,11 @@
 - :func:`plot_active_sampling`, :func:`plot_uncertainty`,
   :func:`plot_model_baselines`,
   :func:`save_figures`: the paper's figures (matplotlib, PNG).
-- :func:`get_config`: the paper's hyperparameters per preset.
+- :func:`get_config`: the paper's hyperparameters per preset;
+  :func:`check_config` checks one.
+- :func:`run_paper_protocol`: all of the above, as ``sklearn-hardness reproduce --protocol paper``.
+- :func:`load_dataset`: the data an experiment's ``dataset`` names;
+  :func:`default_cache_dir`, :func:`clear_cache`: the cache of prepared inputs.
 
 Object-disjoint evaluation of pipelines on new objects is
 :mod:`sklearn_hardness.model_selection`.
@@ -24,7 +28,9 @@ from ._baselines import run_dropout_sweep, run_model_baselines
 from ._plotting import plot_active_sampling, plot_model_baselines, plot_uncertainty, save_figures
 from ._stats import format_paired_table, format_presses_to_reach, paired_table, presses_to_reach
 from ._tables import baseline_table, comparison_table, format_table
-from ._config import get_config
+from ._config import check_config, get_config
+from ._data import clear_cache, default_cache_dir, load_dataset
+from ._protocol import run_paper_protocol
 from ._results import ExperimentResult
 
 __all__ = [
@@ -43,5 +49,10 @@ __all__ = [
     "plot_model_baselines",
     "save_figures",
     "get_config",
+    "check_config",
+    "run_paper_protocol",
+    "load_dataset",
+    "default_cache_dir",
+    "clear_cache",
     "ExperimentResult",
 ]

@@ -12,7 +12,7 @@ import joblib
 import numpy as np
 
 from .._experiment_names import STRATEGIES
-from ..active._strategies import check_strategies
+from ..active import check_strategies
 from ._config import config_hash, resolve_convergence_threshold, run_config
 from ._data import prepare_inputs
 from ._results import ExperimentResult, ResultsStore

@@ -20,7 +20,7 @@ import numpy as np
 from .._experiment_names import KEY_HELP as _KEY_HELP
 from .._experiment_names import QUICK_OVERRIDES
 from .._registry import pipeline_info
-from ..models._convergence import chance_scaled_threshold
+from ..models import chance_scaled_threshold
 from ..utils._param_validation import FRAME_SIZE, Interval, StrOptions, validate_parameter_constraints
 from ._models import MODEL_NAMES, default_frame_size, describe_model, selects_frames
 from ._models import input_name as _input_name
@@ -218,7 +218,23 @@ _CONFIG_CONSTRAINTS = {
 
 
 def check_config(cfg):
-    """Validate a configuration (clear errors before any run starts)."""
+    """Check a configuration before any run starts, and complete it.
+
+    Parameters
+    ----------
+    cfg : dict
+        A configuration (:func:`get_config`).
+
+    Returns
+    -------
+    cfg : dict
+        The same dict, with the model's frame size written out.
+
+    Raises
+    ------
+    ValueError
+        A value out of range or keys that do not go together.
+    """
     validate_parameter_constraints(
         _CONFIG_CONSTRAINTS, {k: cfg[k] for k in _CONFIG_CONSTRAINTS}, caller_name="the experiment configuration"
     )

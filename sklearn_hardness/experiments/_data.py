@@ -21,15 +21,14 @@ from sklearn.utils import Bunch
 from tqdm.auto import tqdm
 
 from ..datasets import load_press_videos, make_presses
-from ..datasets._lazy import raise_unreadable
-from ..features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, LoadingCompliance,
-                        OpticalFlowFeatures)
-from ..models._pipelines import _log_positive
+from ..features import ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
+from ..models import make_loading_compliance_pipeline
 from ..preprocessing import ContactFrameSelector
+from ..utils._force_position import force_position
+from ..utils._unreadable import raise_unreadable
 from ..utils._validation import rename_videos
 from ..utils._warnings import external_stacklevel
 from ._config import MODEL_NAMES
-from ..model_selection._force_position import force_position
 from ._models import feature_params as _feature_params
 from ._models import frame_params as _frame_params
 
@@ -57,12 +56,23 @@ def _dataset_spec(dataset, cfg):
 
 
 def load_dataset(dataset, cfg):
-    """The dataset as a Bunch (``videos``, ``target``, ``hardness``, ...).
+    """The dataset an experiment runs on, as a Bunch.
 
-    ``dataset`` is a simulator preset name (``"silicone5"``, ``"shore9"``,
-    ``"everyday"``, simulated with ``cfg["image_size"]`` and ``cfg["data_seed"]``), the path
-    of a manifest CSV (:func:`~sklearn_hardness.datasets.load_press_videos`)
-    or a Bunch with at least ``videos`` and ``target``.
+    Parameters
+    ----------
+    dataset : str, path-like or Bunch
+        A simulator preset name (``"silicone5"``, ``"shore9"``,
+        ``"everyday"``, simulated with ``cfg["image_size"]`` and
+        ``cfg["data_seed"]``), the path of a manifest CSV
+        (:func:`~sklearn_hardness.datasets.load_press_videos`) or a Bunch
+        with at least ``videos`` and ``target``.
+    cfg : dict
+        A configuration (:func:`get_config`).
+
+    Returns
+    -------
+    data : Bunch
+        ``videos`` (loaded lazily), ``target``, ``hardness``, ...
     """
     spec = _dataset_spec(dataset, cfg)
     if spec is not None and spec[0] == "make_presses":
@@ -150,9 +160,9 @@ def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=N
     if feature_params is not None and feature_params["kind"] == "loading_compliance":
         # each press's force and position, no video: the factory's features and log steps (stateless);
         # its imputer and scaler are fitted per run (experiments._models.input_scaler)
-        step = LoadingCompliance(features=feature_params["features"], onset=feature_params["onset"],
-                                 drive_compliance=feature_params["drive_compliance"])
-        X = _log_positive(step.fit_transform(force_position(data, ["loading_compliance"]))).astype(np.float32)
+        steps = make_loading_compliance_pipeline(features=feature_params["features"], onset=feature_params["onset"],
+                                                 drive_compliance=feature_params["drive_compliance"])[:2]
+        X = steps.fit_transform(force_position(data, ["loading_compliance"])).astype(np.float32)
     else:
         try:
             X = _video_inputs(data["videos"], frame_params, feature_params, verbose, n_jobs)
@@ -177,15 +187,30 @@ def _code_fingerprint():
 
 
 def default_cache_dir():
-    """Where prepared inputs are cached: ``$SKLEARN_HARDNESS_CACHE`` or ``~/.cache/sklearn_hardness``."""
+    """Where the experiments cache prepared inputs by default.
+
+    Returns
+    -------
+    folder : str
+        ``$SKLEARN_HARDNESS_CACHE`` where set, else ``~/.cache/sklearn_hardness``.
+    """
     return os.environ.get("SKLEARN_HARDNESS_CACHE") or os.path.join(
         os.path.expanduser("~"), ".cache", "sklearn_hardness")
 
 
 def clear_cache(folder=None):
-    """Delete the cached inputs (``inputs-*.npz``) in ``folder``; return the paths removed.
+    """Delete the cached inputs (``inputs-*.npz``) in ``folder``.
 
-    ``folder`` defaults to :func:`default_cache_dir`; other files are left alone.
+    Parameters
+    ----------
+    folder : str or path-like, default=None
+        The cache folder; None is :func:`default_cache_dir`. Other files in
+        it are left alone.
+
+    Returns
+    -------
+    removed : list of str
+        The paths removed.
     """
     folder = default_cache_dir() if folder is None else os.fspath(folder)
     if not os.path.isdir(folder):

@@ -25,8 +25,7 @@ from .._registry import EXPERIMENT_MODELS, builder, make_named_pipeline, pipelin
 from .. import models
 from ..features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, LoadingCompliance,
                         OpticalFlowFeatures)
-from ..models._callbacks import EarlyStoppingAfterFirstFit
-from ..models._pipelines import FrameScaler
+from ..models import EarlyStoppingAfterFirstFit, FrameScaler
 from ..utils._random import set_random_states
 
 MODEL_NAMES = EXPERIMENT_MODELS

@@ -41,11 +41,37 @@ N_HOLDOUT = 5
 
 def run_paper_protocol(out, *, strategies=STRATEGIES, n_runs=None, quick=False, n_jobs=None, verbose=1,
                        dinov2_model=None, protocol=PAPER_PROTOCOL, dropouts=None, **config):
-    """Run the whole protocol into the folder ``out`` and return the summary text.
+    """Run the paper's whole protocol (``sklearn-hardness reproduce --protocol paper``).
 
-    ``n_runs`` (seeds) overrides the protocol's run counts (for a smaller look);
-    ``config`` overrides configuration keys of every experiment; ``protocol``
-    and ``dropouts`` (None: the sweep's default rates) exist for small tests.
+    Model baselines, dropout sweep and active sampling on each preset, into
+    ``out/results.jsonl`` (resumable) and ``out/summary.txt``.
+
+    Parameters
+    ----------
+    out : str or path-like
+        The output folder (created).
+    strategies : sequence of str, default=all strategies
+        The active-sampling strategies.
+    n_runs : int, default=None
+        Seeds per preset, overriding the protocol's run counts (for a smaller look).
+    quick : bool, default=False
+        :func:`get_config`'s quick settings.
+    n_jobs : int, default=None
+        Runs in parallel.
+    verbose : int, default=1
+        Progress on stderr.
+    dinov2_model : str, default=None
+        A DINOv2 model to add the DINOv2NN baseline.
+    protocol, dropouts : default=the paper's
+        The (preset, model, seeds, baselines) rows and the dropout rates
+        (None: the sweep's default); they exist for small tests.
+    **config
+        Configuration keys overriding every experiment's.
+
+    Returns
+    -------
+    summary : str
+        The text written to ``out/summary.txt``.
     """
     os.makedirs(out, exist_ok=True)
     path = os.path.join(out, "results.jsonl")

@@ -19,6 +19,7 @@ import warnings
 
 import numpy as np
 
+from ..utils._json import to_json
 from ..utils._warnings import external_stacklevel
 
 __all__ = ["ResultsStore", "ExperimentResult", "key_id"]
@@ -27,20 +28,6 @@ __all__ = ["ResultsStore", "ExperimentResult", "key_id"]
 def key_id(key):
     """A string id of a run key (dict): ``"name=value|..."`` in sorted order."""
     return "|".join(f"{k}={key[k]}" for k in sorted(key))
-
-
-def _to_json(value):
-    if isinstance(value, dict):
-        return {str(k): _to_json(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_to_json(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _to_json(value.tolist())
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, float) and not np.isfinite(value):
-        return None  # JSON has no NaN/inf
-    return value
 
 
 class ResultsStore:
@@ -178,7 +165,7 @@ class ResultsStore:
 
     def append(self, record):
         """Add a finished run; with a file, write it durably (one line, fsync)."""
-        record = _to_json(record)
+        record = to_json(record)
         if record["key"] in self:
             raise ValueError(f"run {key_id(record['key'])} is already in the results.")
         if self.path is not None:

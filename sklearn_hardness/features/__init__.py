@@ -14,14 +14,15 @@
 - :class:`ContactProfileFeatures`: shape- and texture-normalised features of
   a whole press video's loading phase.
 - :class:`LoadingCompliance`: the compliance of gel and object from the
-  robot's force and position per frame, where they are recorded.
+  robot's force and position per frame, where they are recorded;
+  :class:`ConventionWarning` where most presses break its input's conventions.
 """
 
 from ._contact_geometry import ContactGeometryFeatures
 from ._contact_profile import ContactProfileFeatures
 from ._dinov2 import DINOv2Features
 from ._imprint_texture import ImprintTextureFeatures
-from ._loading_compliance import LoadingCompliance
+from ._loading_compliance import ConventionWarning, LoadingCompliance
 from ._optical_flow import OpticalFlowFeatures
 
 __all__ = [
@@ -30,5 +31,6 @@ __all__ = [
     "DINOv2Features",
     "ImprintTextureFeatures",
     "LoadingCompliance",
+    "ConventionWarning",
     "OpticalFlowFeatures",
 ]

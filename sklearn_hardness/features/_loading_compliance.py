@@ -43,7 +43,12 @@ def _loading_figures(press, onset, min_frames, drive_compliance):
 
 
 class ConventionWarning(UserWarning):
-    """Most presses break a convention of the input: force positive, position in mm growing inwards."""
+    """Most presses break a convention of :class:`LoadingCompliance`'s input.
+
+    Force is positive and position in millimetres, growing as the sensor
+    moves inwards; where more than half of the presses break one of these,
+    :class:`LoadingCompliance` warns, listing them.
+    """
 
 
 def _listed(indices):

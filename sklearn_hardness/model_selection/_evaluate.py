@@ -13,6 +13,7 @@ from __future__ import annotations
 import numbers
 import time
 import warnings
+from collections import Counter
 
 import numpy as np
 from joblib import Parallel, delayed, effective_n_jobs
@@ -23,11 +24,9 @@ from sklearn.utils import _safe_indexing
 from ..utils._param_validation import HasMethods, Interval, StrOptions, validate_params
 
 from .._registry import DEFAULT_PIPELINES, PIPELINE_NAMES, make_named_pipeline
-from ..datasets._lazy import raise_unreadable
-from ..features import LoadingCompliance, OpticalFlowFeatures
-from ..features._loading_compliance import ConventionWarning
+from ..utils._unreadable import raise_unreadable
+from ..features import ConventionWarning, LoadingCompliance, OpticalFlowFeatures
 from ..metrics import hardness_mae
-from ..preprocessing._contact_curve import _STATUSES
 from ..utils._intervals import _interval
 from ..utils._progress import ProgressLog
 from ..utils._random import int_seed
@@ -156,7 +155,7 @@ def _contact_note(status, users):
     selector's warning about the same presses); this line says it once.
     """
     status = np.asarray(status)
-    n, count = len(status), {s: int(np.sum(status == s)) for s in _STATUSES}
+    n, count = len(status), Counter(status.tolist())  # 0 for a status not found
     found = count["contact"] + count["weak contact"]
     text = f"contact ({', '.join(users)}): found on {found} of {n} presses ({count['weak contact']} weak)"
     missing = [f"{what} {count[what]}" for what in ("no contact", "too short") if count[what]]

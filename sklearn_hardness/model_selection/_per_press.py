@@ -28,11 +28,10 @@ from sklearn.utils import _safe_indexing
 
 from ..features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, ImprintTextureFeatures,
                         OpticalFlowFeatures)
-from ..features._common import feature_columns
-from ..features._contact_profile import FEATURE_NAMES
+from ..models import peak_contact_change
 from ..preprocessing import ContactFrameSelector
+from ..utils._feature_names import CONTACT_PROFILE_FEATURE_NAMES, feature_columns
 from ..utils._validation import names_a_video, rename_videos
-from ..models._peak_change import peak_contact_change
 
 __all__ = ["FailingPressesError", "all_columns", "describe", "prefix_key", "split_per_press",
            "transform_per_press"]
@@ -95,7 +94,7 @@ def all_columns(prefix):
     if type(step) is not ContactProfileFeatures or isinstance(step.features, str):
         return prefix, None
     try:
-        columns = feature_columns(step.features, FEATURE_NAMES)
+        columns = feature_columns(step.features, CONTACT_PROFILE_FEATURE_NAMES)
     except (TypeError, ValueError):
         return prefix, None
     every = clone(prefix)

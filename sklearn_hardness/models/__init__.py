@@ -21,19 +21,26 @@
   ``reproduce`` take), and their ``make_*_pipeline`` builders;
   :func:`make_peak_change_baseline`, the one-number baseline.
 
+* :class:`FrameScaler`: the one global input scale of the frame pipelines;
+  :class:`EarlyStoppingAfterFirstFit`: skorch's early stopping on every
+  training call but the first.
+
 The nets have ``predict_proba_samples(X, n_samples, random_state)`` for
-batched MC-dropout samples, and :func:`is_converged` implements the paper's
-convergence rule.
+batched MC-dropout samples, :func:`is_converged` implements the paper's
+convergence rule and :func:`chance_scaled_threshold` carries its threshold
+over to other numbers of classes.
 """
 
 from ._augmentation import FrameAugmenter
-from ._convergence import is_converged
+from ._callbacks import EarlyStoppingAfterFirstFit
+from ._convergence import chance_scaled_threshold, is_converged
 from ._convlstm import ConvLSTMClassifier
 from ._ensemble import EnsembleClassifier
 from ._imprint_cnn import ImprintCNNClassifier
 from ._laplace import LaplaceLogisticRegression
 from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
 from ._pipelines import (
+    FrameScaler,
     MCDropoutPipeline,
     make_contact_geometry_pipeline,
     make_imprint_texture_pipeline,
@@ -73,4 +80,7 @@ __all__ = [
     "StackedConvLSTMNet",
     "LaplaceLogisticRegression",
     "is_converged",
+    "chance_scaled_threshold",
+    "FrameScaler",
+    "EarlyStoppingAfterFirstFit",
 ]

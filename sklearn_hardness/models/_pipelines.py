@@ -104,7 +104,7 @@ class FrameScaler(TransformerMixin, BaseEstimator):
 
     Differences to the first frame are small (a few hundredths of full scale)
     and a ConvLSTM barely trains on them; one global scale learnt in
-    :meth:`fit` brings them to unit variance.
+    ``fit`` brings them to unit variance.
 
     Attributes
     ----------
@@ -119,7 +119,7 @@ class FrameScaler(TransformerMixin, BaseEstimator):
     for the model baselines (``input_scale="std"`` of
     :func:`~sklearn_hardness.experiments.get_config`). The net's own
     ``standardize`` is a different operation, per channel; a constant factor
-    cancels in it, but not before :class:`IntensityChannels`, whose ``floor``
+    cancels in it, but not before ``IntensityChannels``, whose ``floor``
     is in the units this step makes (the frames' spread), so the pipeline
     gives the same intensity channels whether a camera's frames come in grey
     levels 0-255 or 0-1.

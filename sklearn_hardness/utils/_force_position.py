@@ -1,6 +1,6 @@
 """Each press's force and position per frame, as ``(T, 2)`` arrays: the input of ``loading_compliance``.
 
-Shared by ``evaluate`` and the experiments, which read them from a dataset's
+Shared by ``model_selection``, the experiments and the command line, which read them from a dataset's
 ``force`` and ``position`` (a manifest's ``force_path`` and ``position_path``,
 the simulator's presets).
 """
