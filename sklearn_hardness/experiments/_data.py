@@ -22,7 +22,7 @@ from tqdm.auto import tqdm
 
 from ..datasets import load_press_videos, make_presses
 from ..features import ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
-from ..models import make_loading_compliance_pipeline
+from ..models import make_named_pipeline
 from ..preprocessing import ContactFrameSelector
 from ..utils._force_position import force_position
 from ..utils._unreadable import raise_unreadable
@@ -160,8 +160,9 @@ def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=N
     if feature_params is not None and feature_params["kind"] == "loading_compliance":
         # each press's force and position, no video: the factory's features and log steps (stateless);
         # its imputer and scaler are fitted per run (experiments._models.input_scaler)
-        steps = make_loading_compliance_pipeline(features=feature_params["features"], onset=feature_params["onset"],
-                                                 drive_compliance=feature_params["drive_compliance"])[:2]
+        steps = make_named_pipeline("loading_compliance", features=feature_params["features"],
+                                    onset=feature_params["onset"],
+                                    drive_compliance=feature_params["drive_compliance"])[:2]
         X = steps.fit_transform(force_position(data, ["loading_compliance"])).astype(np.float32)
     else:
         try:

@@ -14,9 +14,9 @@ from __future__ import annotations
 import numbers
 
 import numpy as np
-from sklearn.utils._param_validation import Interval, validate_params
 
 from ..utils._intervals import _interval
+from ..utils._param_validation import Interval, validate_params
 
 __all__ = ["corrected_interval"]
 
