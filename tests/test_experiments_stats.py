@@ -69,11 +69,13 @@ def test_paired_table_uses_converged_pairs_only_and_rejects_bad_input():
 
 
 def test_reproduce_protocol_paper_passes_its_arguments(tmp_path, capsys, monkeypatch):
+    from sklearn_hardness import experiments
     from sklearn_hardness._cli import main
     from sklearn_hardness.experiments import _protocol
 
     seen = {}
-    monkeypatch.setattr(_protocol, "run_paper_protocol", lambda out, **kw: seen.update(kw, out=out) or "SUMMARY")
+    # the command line takes the public name: patch it there (the real one runs the whole protocol)
+    monkeypatch.setattr(experiments, "run_paper_protocol", lambda out, **kw: seen.update(kw, out=out) or "SUMMARY")
     assert main(["reproduce", "--protocol", "paper", "--out", str(tmp_path), "--n-runs", "3", "--quiet",
                  "--strategies", "variance", "random", "--set", "n_samples=7"]) == 0
     assert "SUMMARY" in capsys.readouterr().out
