@@ -1012,23 +1012,27 @@ def test_contact_geometry_features_are_computed_once_per_press():
 def test_named_pipeline_memory_makes_a_second_fit_of_the_same_steps_a_cache_hit(tiny, tmp_path):
     from joblib import Memory
 
-    from sklearn_hardness.features import ContactGeometryFeatures
+    from sklearn_hardness.features import _contact_geometry
+
+    import functools
 
     calls = []
-    original = ContactGeometryFeatures.fit_transform
+    original = _contact_geometry._press_row
 
-    def counting(self, X, y=None, **params):
-        calls.append(len(X))
-        return original(self, X, y, **params)
+    @functools.wraps(original)  # the cache keys rows by the function's name
+    def counting(*args, **kwargs):
+        calls.append(1)
+        return original(*args, **kwargs)
 
     pipe = make_named_pipeline("contact_geometry", memory=Memory(tmp_path, verbose=0))
-    assert pipe.memory is not None
+    # the per-press feature step takes the memory (rows keyed by press); the Pipeline does not hash X
+    assert pipe.named_steps["features"].memory is not None and pipe.memory is None
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(ContactGeometryFeatures, "fit_transform", counting)
+        mp.setattr(_contact_geometry, "_press_row", counting)
         first = clone(pipe).fit(tiny.videos, tiny.target).predict(tiny.videos[:4])
         n_first = len(calls)
         second = clone(pipe).fit(tiny.videos, tiny.target).predict(tiny.videos[:4])
-    assert n_first >= 1 and len(calls) == n_first  # the second fit read the cached steps
+    assert n_first >= 1 and len(calls) == n_first  # the second fit computed no feature row
     np.testing.assert_array_equal(first, second)
 
 
