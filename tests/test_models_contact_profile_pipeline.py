@@ -113,7 +113,11 @@ def test_contact_profile_nn_runs_by_name_in_evaluate():
     assert all(np.isfinite(r["balanced_accuracy"]) for r in result.table)
     assert result.predictions["contact_profile_nn"].shape == (len(d.target),)
     # the longer name keeps the table's columns: accuracies start in one column
-    rows = format_evaluation(result).splitlines()[2:2 + len(result.table)]
+    names = [r["pipeline"] for r in result.table]
+    lines = format_evaluation(result).splitlines()
+    first = next(i for i, line in enumerate(lines) if line.split(" ")[0] == names[0])
+    rows = lines[first:first + len(names)]
+    assert [row.split(" ")[0] for row in rows] == names
     assert len({row.index(" 0.") if " 0." in row else row.index(" 1.") for row in rows}) == 1
 
 
