@@ -109,6 +109,11 @@ PIPELINE_NAMES = tuple(_REGISTRY)
 #: objects they took 96% of evaluate's time and scored below the one number.
 DEFAULT_PIPELINES = ("contact_geometry", "contact_profile")
 
+
+def default_pipelines(with_force_position):
+    """``DEFAULT_PIPELINES``, and ``"loading_compliance"`` where every press has force and position."""
+    return list(DEFAULT_PIPELINES) + (["loading_compliance"] if with_force_position else [])
+
 #: The names the paper's experiments (``reproduce --model``, ``model=``) can run: their runner trains the
 #: pipeline's last step on inputs prepared once per dataset.
 EXPERIMENT_MODELS = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn", "contact_profile", "contact_profile_3",

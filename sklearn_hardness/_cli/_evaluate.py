@@ -6,7 +6,7 @@ import argparse
 import os
 import sys
 
-from .._registry import DEFAULT_PIPELINES, PIPELINE_NAMES, pipeline_info
+from .._registry import DEFAULT_PIPELINES, PIPELINE_NAMES, default_pipelines, pipeline_info
 from ._common import (
     _SIM_PRESETS,
     _add_quiet,
@@ -99,7 +99,7 @@ def _estimators(names, force_position, roi, seed):
     from .._registry import make_named_pipeline
 
     if names is None:
-        names = list(DEFAULT_PIPELINES) + (["loading_compliance"] if force_position is not None else [])
+        names = default_pipelines(force_position is not None)
     return {name: make_named_pipeline(name, random_state=seed,
                                       **({"roi": roi} if pipeline_info(name).input == "video" else {}))
             for name in names}

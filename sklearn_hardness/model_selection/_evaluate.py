@@ -23,7 +23,7 @@ from sklearn.pipeline import Pipeline
 from sklearn.utils import _safe_indexing
 from ..utils._param_validation import HasMethods, Interval, StrOptions, validate_params
 
-from .._registry import DEFAULT_PIPELINES, PIPELINE_NAMES, make_named_pipeline
+from .._registry import PIPELINE_NAMES, default_pipelines, make_named_pipeline
 from ..utils._unreadable import raise_unreadable
 from ..features import ConventionWarning, LoadingCompliance, OpticalFlowFeatures
 from ..metrics import hardness_mae
@@ -288,7 +288,7 @@ def _seconds_left(fit_seconds, n_fits, n_workers):
 def _named_estimators(estimators, baseline, seed, force_position):
     """``{name: estimator}`` of ``estimators`` (dict, names, pairs or None), the baseline first; its name."""
     if estimators is None:
-        estimators = list(DEFAULT_PIPELINES) + (["loading_compliance"] if force_position is not None else [])
+        estimators = default_pipelines(force_position is not None)
     items = estimators.items() if isinstance(estimators, dict) else estimators
     named = {}
     for item in items:
