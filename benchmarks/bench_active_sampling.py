@@ -54,9 +54,9 @@ import math
 import os
 import time
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 
-import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.memory import peak_rss_mb
 
 
@@ -138,13 +138,8 @@ def paired(args):
     print(f"\nsilicone5, {cfg['model']}, {len(pairs)} paired (test object, seed) runs, "
           f"{len(common)} converged in all strategies; e0={cfg['initial_epochs']} e={cfg['epochs_per_query']} "
           f"M={cfg['max_reservoir']} frames={cfg['frame_size'] or 'default'} lr={cfg['lr']} "
-<<<<<<< HEAD
           f"MC={cfg['n_samples']}{' [quick]' if args.quick else ''}; wall {wall:.0f} s, "
           f"peak RSS {peak_rss_mb():.0f} MiB (parent)")
-=======
-          f"MC={cfg['n_samples']}{' [quick]' if args.quick else ''}; wall {wall:.0f} s, "
-          f"peak RSS {_peak_rss_mib():.0f} MiB (parent)")
->>>>>>> names
 
     def ci(v):
         v = np.asarray(v, float)

@@ -24,14 +24,13 @@ import argparse
 import os
 import time
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import cv2
 import numpy as np
 import torch
 
-from sklearn_hardness.models import ConvLSTMClassifier
-
-import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.memory import peak_rss_mb, reset_peak
+from sklearn_hardness.models import ConvLSTMClassifier
 
 COMPLIANCE = np.array([1.13, 1.02, 0.79, 0.68, 0.44])  # mm/N, the paper's objects
 C_GEL = 0.3  # mm/N

@@ -30,10 +30,10 @@ import tempfile
 import time
 import warnings
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from sklearn.model_selection import GroupKFold, cross_val_score
 
-import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.memory import peak_rss_mb, reset_peak
 from sklearn_hardness.datasets import load_press_videos
 from sklearn_hardness.model_selection import evaluate_pipelines

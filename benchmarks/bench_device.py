@@ -41,7 +41,6 @@ import warnings
 import numpy as np
 import torch
 
-
 LOAD_ON_CPU = """
 import pickle, sys, warnings
 import numpy as np
@@ -88,8 +87,14 @@ def inputs(n_per_class, seed):
 
 def nets(device, epochs, seed):
     """name -> unfitted net on ``device``."""
-    from sklearn_hardness.models import (ContactProfileNNClassifier, ConvLSTMClassifier, DINOv2NNClassifier,
-                                         EnsembleClassifier, FrameAugmenter, OFNNClassifier)
+    from sklearn_hardness.models import (
+        ContactProfileNNClassifier,
+        ConvLSTMClassifier,
+        DINOv2NNClassifier,
+        EnsembleClassifier,
+        FrameAugmenter,
+        OFNNClassifier,
+    )
 
     common = dict(max_epochs=epochs, device=device, random_state=seed, class_weight="balanced")
     return {
@@ -135,7 +140,8 @@ def main(argv=None):
     lines = [f"{int((~test).sum())} training and {int(test.sum())} test presses of silicone5, {args.epochs} epochs; "
              f"device {args.device} ({torch.cuda.get_device_name(args.device) if torch.cuda.is_available() else 'cpu'})"
              f", torch {torch.__version__}", "",
-             "| net | fit s (device) | fit s (cpu) | accuracy (device) | accuracy (cpu) | same weights on cpu: max diff "
+             "| net | fit s (device) | fit s (cpu) | accuracy (device) | accuracy (cpu) "
+             "| same weights on cpu: max diff "
              "| samples repeat on device | pickle on a GPU-less process: max diff |",
              "|---|---|---|---|---|---|---|---|"]
     fitted = {}

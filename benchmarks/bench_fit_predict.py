@@ -26,11 +26,11 @@ import sys
 import time
 import warnings
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from sklearn.metrics import balanced_accuracy_score
 from sklearn.model_selection import GroupShuffleSplit
 
-import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.memory import peak_rss_mb
 from sklearn_hardness.datasets import load_physiclear, make_presses
 from sklearn_hardness.models import make_named_pipeline

@@ -18,14 +18,13 @@ import argparse
 import os
 import time
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 import torch
 from torch.utils.flop_counter import FlopCounterMode
 
-from sklearn_hardness.models import ConvLSTMClassifier
-
-import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.machine import matmul_gflops
+from sklearn_hardness.models import ConvLSTMClassifier
 
 #: The net ConvLSTMClassifier trains (its public ``module`` parameter's default), reached
 #: without importing the private module that defines it; built below as before.

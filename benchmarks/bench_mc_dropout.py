@@ -33,13 +33,12 @@ import argparse
 import os
 import time
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 import torch
 
-from sklearn_hardness.models import ConvLSTMClassifier, DINOv2NNClassifier
-
-import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.memory import peak_rss_mb, reset_peak
+from sklearn_hardness.models import ConvLSTMClassifier, DINOv2NNClassifier
 
 
 def dropout_layers(module):

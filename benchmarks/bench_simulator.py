@@ -22,11 +22,11 @@ regression (``evaluate_pipelines``).
 import argparse
 import time
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from joblib import Parallel, delayed
 from threadpoolctl import threadpool_limits
 
-import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.memory import peak_rss_mb
 
 
@@ -107,10 +107,7 @@ def main():
 
 def _everyday(args):
     from sklearn_hardness.datasets import make_presses
-    try:
-        from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation
-    except ImportError:  # before 0.1.0 they lived in experiments
-        from sklearn_hardness.experiments import evaluate_pipelines, format_evaluation
+    from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation
     from sklearn_hardness.preprocessing import contact_curve
 
     codec = None if args.codec == "none" else args.codec

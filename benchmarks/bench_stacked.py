@@ -30,14 +30,13 @@ import os
 import sys
 import time
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 import torch
 
-from sklearn_hardness.models import StackedConvLSTMNet
-
-import _harness  # noqa: F401 - puts the repository root on sys.path
-from harness.memory import peak_rss_mb, reset_peak
 from harness.machine import matmul_gflops
+from harness.memory import peak_rss_mb, reset_peak
+from sklearn_hardness.models import StackedConvLSTMNet
 
 
 def matmul_reference(device, n, repeat):

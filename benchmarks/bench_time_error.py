@@ -45,9 +45,9 @@ import subprocess
 import sys
 import time
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 
-import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.memory import peak_rss_mb
 
 #: The paper's settings, from which every configuration changes one knob: 18x24 frames (the

@@ -23,6 +23,7 @@ import sys
 import time
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
+
 from harness.memory import TreePeak
 
 HERE = os.path.dirname(os.path.abspath(__file__))

@@ -49,7 +49,7 @@ print("corners found:", tracks.n_corners.tolist())
 moved = np.linalg.norm(tracks.points - tracks.points[:, :, :1], axis=-1)
 moved = np.where(tracks.valid, moved, np.nan)  # (2 presses, n_features, k)
 at_peak = np.nanmean(moved[:, :, -1], axis=1)
-print("mean |displacement| at peak (px): soft %.2f, hard %.2f" % tuple(at_peak))
+print(f"mean |displacement| at peak (px): soft {at_peak[0]:.2f}, hard {at_peak[1]:.2f}")
 
 # %%
 # The tracks on the last selected frame (peak deformation)

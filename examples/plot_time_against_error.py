@@ -28,8 +28,7 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.models import peak_contact_change
-from sklearn_hardness.models import ConvLSTMClassifier
+from sklearn_hardness.models import ConvLSTMClassifier, peak_contact_change
 from sklearn_hardness.preprocessing import ContactFrameSelector
 
 # One torch thread: timings that do not depend on what else runs on the machine

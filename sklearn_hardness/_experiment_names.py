@@ -29,7 +29,8 @@ QUICK_OVERRIDES = {
 KEY_HELP = {
     "model": f"classifier, a named pipeline among {', '.join(EXPERIMENT_MODELS)} (models.pipeline_info "
              "says what each is; the presets: convlstm for silicone5, dinov2nn for shore9); the logistic heads "
-             "(contact_profile, contact_profile_3, contact_geometry, loading_compliance) are refitted at each iteration: epochs, "
+             "(contact_profile, contact_profile_3, contact_geometry, loading_compliance) are refitted at each "
+             "iteration: epochs, "
              "lr, dropout and batch_size do not apply; loading_compliance needs each press's force and position",
     "n_initial": "s0: presses per reference object in the initial training set",
     "n_per_query": "s: presses of the queried object added per iteration",

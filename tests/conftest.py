@@ -2,8 +2,8 @@ import os
 
 import numpy as np
 import pytest
-from tests._threads import torch_threads
 
+from tests._threads import torch_threads
 
 # SKLEARN_HARDNESS_TEST_THREADS changes the float path (.ci/run runs the fast tests once with 1).
 _TORCH_THREADS = int(os.environ.get("SKLEARN_HARDNESS_TEST_THREADS", "2"))

@@ -236,7 +236,8 @@ def test_thompson_draws_the_first_class_with_its_mean_probability(proba):
         idx, scores = thompson_sampling(p, n_instances=3, random_state=s)
         assert idx[2] == 2 and scores[2] == 0.0
     # same seed, same draw
-    assert thompson_sampling(proba, 2, random_state=7)[0].tolist() == thompson_sampling(proba, 2, random_state=7)[0].tolist()
+    first, again = thompson_sampling(proba, 2, random_state=7), thompson_sampling(proba, 2, random_state=7)
+    assert first[0].tolist() == again[0].tolist()
 
 
 def test_thompson_presses_the_believed_class_and_spreads_with_doubt():

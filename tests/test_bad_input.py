@@ -150,7 +150,9 @@ def _cases(files):
             lambda: load_press_videos(f["partial_hardness"]), ValueError, "'hardness' is empty"
         ),
         "manifest empty label": (lambda: load_press_videos(f["empty_label"]), ValueError, "empty 'label'"),
-        "manifest mixed hardness units": (lambda: load_press_videos(f["mixed_units"]), ValueError, "mixes hardness units"),
+        "manifest mixed hardness units": (
+            lambda: load_press_videos(f["mixed_units"]), ValueError, "mixes hardness units"
+        ),
         "manifest fps not a number": (lambda: load_press_videos(f["bad_fps"]), ValueError, "'fps' must be a number"),
         "manifest cache_size=-1": (
             lambda: load_press_videos(f["empty"], cache_size=-1), InvalidParameterError, "'cache_size' parameter"
@@ -202,7 +204,8 @@ def _cases(files):
             lambda: OpticalFlowFeatures().fit(_FRAMES[:, :1]), ValueError, "at least 2 frames"
         ),
         "optical flow NaN": (
-            lambda: OpticalFlowFeatures().fit(_nan(_FRAMES, (2,))), ValueError, r"NaN or infinite values in sample\(s\) \[2\]"
+            lambda: OpticalFlowFeatures().fit(_nan(_FRAMES, (2,))), ValueError,
+            r"NaN or infinite values in sample\(s\) \[2\]",
         ),
         "optical flow strings": (
             lambda: OpticalFlowFeatures().fit(np.array(["a", "b"])), TypeError, "numeric array"
@@ -237,7 +240,8 @@ def _cases(files):
             lambda: ContactFrameSelector().fit([_nan(np.zeros((8, 16, 16, 3)), (3,))]), ValueError, "NaN or infinite"
         ),
         "selector 4 channels": (
-            lambda: ContactFrameSelector().fit([np.zeros((8, 16, 16, 4), np.uint8)]), ValueError, "1 or 3 colour channels"
+            lambda: ContactFrameSelector().fit([np.zeros((8, 16, 16, 4), np.uint8)]), ValueError,
+            "1 or 3 colour channels",
         ),
         "selector transform before fit": (
             lambda: ContactFrameSelector().transform([_U8]), NotFittedError, "not fitted"
@@ -259,15 +263,19 @@ def _cases(files):
         ),
         # ------------------------------------------------------------------- active
         "unknown strategy name": (lambda: get_strategy("uncertainty"), ValueError, "strategy.*'uncertainty'"),
-        "strategy neither name nor callable": (lambda: get_strategy(3), TypeError, "'strategy' parameter of get_strategy"),
+        "strategy neither name nor callable": (
+            lambda: get_strategy(3), TypeError, "'strategy' parameter of get_strategy"
+        ),
         "class_uncertainty 2-D probabilities": (
-            lambda: class_uncertainty(np.full((4, 3), 1 / 3)), ValueError, r"must be 3-D with shape \(n_samples, n_X, n_classes\)"
+            lambda: class_uncertainty(np.full((4, 3), 1 / 3)), ValueError,
+            r"must be 3-D with shape \(n_samples, n_X, n_classes\)",
         ),
         "class_uncertainty NaN probabilities": (
             lambda: class_uncertainty(_nan(np.full((2, 4, 3), 1 / 3))), ValueError, "proba_samples contains NaN"
         ),
         "class_uncertainty unknown kind": (
-            lambda: class_uncertainty(np.full((2, 4, 3), 1 / 3), kind="margin"), ValueError, "'kind' parameter of class_uncertainty"
+            lambda: class_uncertainty(np.full((2, 4, 3), 1 / 3), kind="margin"), ValueError,
+            "'kind' parameter of class_uncertainty",
         ),
         "learner query before fit": (
             lambda: ActiveLearner(_net()).query(_TABLE), NotFittedError, "not fitted yet"
@@ -295,9 +303,9 @@ def _cases(files):
     }
 
 
-_CASE_IDS = list(_cases({"root": None, **{k: None for k in (
-    "missing_files", "no_label", "empty", "bad_hardness", "inf_hardness", "conflicting",
-    "partial_hardness", "empty_label", "mixed_units", "bad_fps")}}))
+_MANIFEST_FIXTURES = ("missing_files", "no_label", "empty", "bad_hardness", "inf_hardness", "conflicting",
+                      "partial_hardness", "empty_label", "mixed_units", "bad_fps")
+_CASE_IDS = list(_cases({"root": None, **dict.fromkeys(_MANIFEST_FIXTURES)}))
 
 
 def test_at_least_fifty_cases():
@@ -427,7 +435,8 @@ def test_parameter_validation_is_the_package_s_own_and_scikit_learn_is_not_cappe
 
     with pytest.raises(
         pv.InvalidParameterError,
-        match=r"^The 'n_features' parameter of OpticalFlowFeatures must be an int in the range \[1, inf\)\. Got 0 instead\.$",
+        match=r"^The 'n_features' parameter of OpticalFlowFeatures must be an int in the range \[1, inf\)\. "
+              r"Got 0 instead\.$",
     ):
         OpticalFlowFeatures(n_features=0).fit(_FRAMES)
 

@@ -41,12 +41,18 @@ import pytest
 import torch
 from sklearn.base import BaseEstimator
 from sklearn.datasets import make_blobs
-from sklearn.utils import get_tags
 from sklearn.utils import estimator_checks as ec
+from sklearn.utils import get_tags
 
 from sklearn_hardness.active import ActiveLearner
-from sklearn_hardness.features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features,
-                                       ImprintTextureFeatures, LoadingCompliance, OpticalFlowFeatures)
+from sklearn_hardness.features import (
+    ContactGeometryFeatures,
+    ContactProfileFeatures,
+    DINOv2Features,
+    ImprintTextureFeatures,
+    LoadingCompliance,
+    OpticalFlowFeatures,
+)
 from sklearn_hardness.models import (
     ContactProfileNNClassifier,
     ConvLSTMClassifier,
@@ -56,8 +62,8 @@ from sklearn_hardness.models import (
     LaplaceLogisticRegression,
     OFNNClassifier,
 )
-from sklearn_hardness.models._pipelines import FrameScaler
 from sklearn_hardness.models._intensity_channels import IntensityChannels
+from sklearn_hardness.models._pipelines import FrameScaler
 from sklearn_hardness.preprocessing import ContactFrameSelector
 from sklearn_hardness.utils.estimator_checks import parametrize_with_video_checks
 
@@ -159,7 +165,8 @@ EXPECTED_FAILED_CHECKS = {
         "check_classifiers_classes": _LEARNER_INT_LABELS,
         "check_fit2d_1sample": _LEARNER_INT_LABELS,
         "check_fit2d_1feature": _LEARNER_INT_LABELS,
-        "check_classifier_data_not_an_array": "rejects sklearn's _NotAnArray wrapper ('X must be an array or a sequence')",
+        "check_classifier_data_not_an_array":
+            "rejects sklearn's _NotAnArray wrapper ('X must be an array or a sequence')",
         "check_supervised_y_2d": "a column-vector y is an error ('y must be 1-D'), not a DataConversionWarning",
         "check_requires_y_none": "fit(X, None) fails without saying 'requires y to be passed'",
     },

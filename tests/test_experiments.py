@@ -16,9 +16,9 @@ from sklearn_hardness.experiments import (
     run_model_baselines,
     save_figures,
 )
-from sklearn_hardness.experiments._tables import HUMAN_ACCURACY
-from sklearn_hardness.experiments._results import ResultsStore
 from sklearn_hardness.experiments._config import config_hash
+from sklearn_hardness.experiments._results import ResultsStore
+from sklearn_hardness.experiments._tables import HUMAN_ACCURACY
 
 from ._exp_data import TINY, tiny_presses
 
@@ -277,8 +277,8 @@ def test_model_baselines_and_dropout_sweep(tmp_path):
 def test_model_baselines_scale_inputs_on_each_run_s_training_presses(monkeypatch, tmp_path):
     # the factory's scale step (FrameScaler for the ConvLSTM), fitted on the run's training presses only
     import sklearn_hardness.experiments._baselines as baselines
-    from sklearn_hardness.experiments._data import prepare_inputs
     from sklearn_hardness.experiments._config import check_config, get_config
+    from sklearn_hardness.experiments._data import prepare_inputs
     from sklearn_hardness.models._pipelines import FrameScaler
 
     fitted = []
@@ -388,8 +388,7 @@ def test_early_stopping_cuts_epochs_and_is_recorded():
 
 def test_frame_size_is_written_out_and_old_results_stay_resumable():
     from sklearn_hardness.experiments import get_config
-    from sklearn_hardness.experiments._config import config_hash
-    from sklearn_hardness.experiments._config import check_config
+    from sklearn_hardness.experiments._config import check_config, config_hash
 
     new = check_config(get_config("silicone5"))
     assert new["frame_size"] == (12, 16)  # the default, written out (config.json, hash)
@@ -407,7 +406,8 @@ def test_frame_size_is_written_out_and_old_results_stay_resumable():
     assert custom["frame_size"] == (12, 16)
     assert config_hash(dict(custom, frame_size=(18, 24))) == config_hash(dict(custom, frame_size=None))
     assert config_hash(custom) != config_hash(dict(custom, frame_size=None))
-    with pytest.raises(ValueError, match="'frame_size' parameter of the experiment configuration must be None or a pair"):
+    frame_size_error = "'frame_size' parameter of the experiment configuration must be None or a pair"
+    with pytest.raises(ValueError, match=frame_size_error):
         check_config(get_config("silicone5", frame_size=(12, 0)))
-    with pytest.raises(ValueError, match="'frame_size' parameter of the experiment configuration must be None or a pair"):
+    with pytest.raises(ValueError, match=frame_size_error):
         check_config(get_config("silicone5", frame_size="12x16"))

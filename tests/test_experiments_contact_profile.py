@@ -1,4 +1,5 @@
-"""The experiments' ``contact_profile_nn`` and ``contact_profile`` models (issue 20): active sampling on the features that carry over.
+"""The experiments' ``contact_profile_nn`` and ``contact_profile`` models (issue 20): active sampling on the
+features that carry over.
 
 ContactProfileFeatures of the whole press video (no frame selection), an
 MC-dropout MLP (``contact_profile_nn``) or a logistic regression sampled from
@@ -11,9 +12,9 @@ import pytest
 
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.experiments import get_config, run_active_sampling
-from sklearn_hardness.experiments._run import _input_scaler, _rows
 from sklearn_hardness.experiments._config import check_config, config_hash
 from sklearn_hardness.experiments._data import prepare_inputs
+from sklearn_hardness.experiments._run import _input_scaler, _rows
 
 from ._presets import EVERYDAY_BEFORE
 

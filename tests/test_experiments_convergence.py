@@ -12,8 +12,7 @@ import pytest
 from sklearn.utils import Bunch
 
 from sklearn_hardness.experiments import _active, _baselines, get_config, run_active_sampling
-from sklearn_hardness.experiments._config import config_hash
-from sklearn_hardness.experiments._config import check_config
+from sklearn_hardness.experiments._config import check_config, config_hash
 from sklearn_hardness.experiments._data import _dataset_spec
 from sklearn_hardness.experiments._models import make_estimator
 

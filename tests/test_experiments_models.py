@@ -5,10 +5,9 @@ import pytest
 
 from sklearn_hardness._registry import pipeline_info
 from sklearn_hardness.experiments import get_config
-from sklearn_hardness.experiments._models import MODEL_NAMES
 from sklearn_hardness.experiments._config import check_config
 from sklearn_hardness.experiments._data import _feature_params, _frame_params
-from sklearn_hardness.experiments._models import make_estimator, model_pipeline
+from sklearn_hardness.experiments._models import MODEL_NAMES, make_estimator, model_pipeline
 from sklearn_hardness.models import make_named_pipeline
 
 THREE = ["log_peak_change", "log_loading_time", "log_contact_spread"]
@@ -48,7 +47,8 @@ def test_frame_and_feature_steps_come_from_the_named_pipelines():
     assert _feature_params(cfg, "contact_profile_3") == {"kind": "contact_profile", "max_side": 80,
                                                          "features": THREE}
     assert _frame_params(cfg, "loading_compliance") is None
-    assert _feature_params(cfg, "loading_compliance") == {"kind": "loading_compliance", "features": ["hertz_compliance"],
+    assert _feature_params(cfg, "loading_compliance") == {"kind": "loading_compliance",
+                                                           "features": ["hertz_compliance"],
                                                           "onset": 0.1, "drive_compliance": 0.0}
     assert _feature_params(check_config(get_config("shore9", model="ofnn")), "ofnn") == \
         {"kind": "optical_flow", "n_features": 500}

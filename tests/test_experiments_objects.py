@@ -10,10 +10,9 @@ from sklearn.utils import Bunch
 
 from sklearn_hardness.active import PressOracle
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import ExperimentResult, paired_table, presses_to_reach, run_active_sampling
-from sklearn_hardness.experiments import _active
-from sklearn_hardness.experiments._run import _seeds, _split, _split_objects
+from sklearn_hardness.experiments import ExperimentResult, _active, paired_table, presses_to_reach, run_active_sampling
 from sklearn_hardness.experiments._config import check_config, get_config
+from sklearn_hardness.experiments._run import _seeds, _split, _split_objects
 
 from ._exp_data import TINY, tiny_presses
 

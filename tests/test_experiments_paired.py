@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from sklearn_hardness.experiments import run_active_sampling
-from sklearn_hardness.experiments._run import _active_run
 from sklearn_hardness.experiments._config import check_config, get_config
 from sklearn_hardness.experiments._data import prepare_inputs
+from sklearn_hardness.experiments._run import _active_run
 from sklearn_hardness.models._pipelines import FrameScaler
 
 from ._exp_data import TINY, tiny_presses

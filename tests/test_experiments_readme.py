@@ -51,7 +51,8 @@ def test_table_of_needs_the_note_after_the_table():
 
 @pytest.mark.slow
 def test_readme_command_writes_a_table_of_the_right_form_with_plausible_figures(tmp_path):
-    """``python -m harness.readme_table``: rows, columns, ranges and run counts; a header of command, commit, date, machine."""
+    """``python -m harness.readme_table``: rows, columns, ranges and run counts; a header of command, commit, date,
+    machine."""
     from sklearn_hardness._cli._header import read_header
     from sklearn_hardness.experiments._active import STRATEGIES
     from sklearn_hardness.experiments._tables import HUMAN_ACCURACY

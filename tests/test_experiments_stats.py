@@ -15,7 +15,7 @@ def _result(rng, n_pairs=12, gain=0.1, converged_fail=()):
             noise = rng.normal(0, 0.05)
             acc = [0.2, base + g / 2 + noise, base + g + noise]
             recs.append({"key": {"strategy": s, "test_class": k % 3, "seed": k}, "accuracy": acc,
-                         "mae": [0.3, 0.2, 0.1 - g / 2], "converged": not (s, k) in converged_fail,
+                         "mae": [0.3, 0.2, 0.1 - g / 2], "converged": (s, k) not in converged_fail,
                          "holdout_accuracy": [0.2, 0.3, 0.4 + g]})
     return ExperimentResult(recs)
 
@@ -23,7 +23,7 @@ def _result(rng, n_pairs=12, gain=0.1, converged_fail=()):
 def test_paired_table_matches_scipy_and_finds_a_real_gain():
     res = _result(np.random.default_rng(0))
     rows = {(r["strategy"], r["metric"]): r for r in paired_table(res)}
-    assert set(m for _, m in rows) == {"accuracy", "mae", "auc", "holdout_accuracy"}
+    assert {m for _, m in rows} == {"accuracy", "mae", "auc", "holdout_accuracy"}
     v = rows[("variance", "accuracy")]
     d = np.array([a["accuracy"][-1] - b["accuracy"][-1] for a, b in zip(
         res.select(strategy="variance"), res.select(strategy="random"))])

@@ -5,8 +5,8 @@ import pytest
 from sklearn.base import clone
 
 from sklearn_hardness.features import ContactGeometryFeatures
-from sklearn_hardness.models import make_contact_geometry_pipeline
 from sklearn_hardness.features._contact_geometry import FEATURE_NAMES, SCALE_FREE
+from sklearn_hardness.models import make_contact_geometry_pipeline
 
 H, W = 60, 80
 
@@ -172,7 +172,8 @@ def test_pipeline_has_posterior_samples():
     assert (pipe.predict(videos) == y).all()
     assert pipe.predict_proba_samples(videos[:3], n_samples=4, random_state=0).shape == (4, 3, 2)
     assert make_contact_geometry_pipeline().fit(videos, y).named_steps["scale"].n_features_in_ == len(SCALE_FREE)
-    assert ContactGeometryFeatures(features="scale_free").fit(videos).get_feature_names_out().tolist() == list(SCALE_FREE)
+    names = ContactGeometryFeatures(features="scale_free").fit(videos).get_feature_names_out()
+    assert names.tolist() == list(SCALE_FREE)
     both = make_contact_geometry_pipeline(features="all", with_profile=True).fit(videos, y)
     assert both.named_steps["scale"].n_features_in_ == len(FEATURE_NAMES) + 12
     with pytest.raises(ValueError, match="head"):

@@ -5,13 +5,12 @@ import joblib
 import numpy as np
 import pytest
 import torch
+import transformers  # the [dinov2] extra; CI installs it (no skipping)
 from sklearn.base import clone
 from sklearn.exceptions import NotFittedError
-import transformers  # the [dinov2] extra; CI installs it (no skipping)
 
 from sklearn_hardness.features import DINOv2Features
 from sklearn_hardness.utils._param_validation import InvalidParameterError
-
 
 DIM = 32
 

@@ -3,8 +3,12 @@
 import numpy as np
 import pytest
 
-from sklearn_hardness.features import ContactGeometryFeatures, ImprintTextureFeatures
-from sklearn_hardness.features import _contact_geometry, _imprint_texture
+from sklearn_hardness.features import (
+    ContactGeometryFeatures,
+    ImprintTextureFeatures,
+    _contact_geometry,
+    _imprint_texture,
+)
 from sklearn_hardness.features._loading_moments import loading_moments
 from sklearn_hardness.model_selection._per_press import split_per_press
 from sklearn_hardness.models import make_imprint_texture_pipeline, make_named_pipeline

@@ -77,7 +77,8 @@ def test_script_command_is_what_a_reader_types_from_the_root():
     argv = [script, "--manifest", "/home/someone/recordings", "--out", "/tmp/x.txt", "--cache", "c", "--seed", "1"]
     assert script_command(argv) == "python studies/scripts/sim_confounds.py --manifest DATA --seed 1"
     bench = os.path.join(harness.ROOT, "benchmarks", "bench_flops.py")
-    assert script_command([bench, "--data", "/x/example_data/"]) == "python benchmarks/bench_flops.py --data EXAMPLE_DATA"
+    command = script_command([bench, "--data", "/x/example_data/"])
+    assert command == "python benchmarks/bench_flops.py --data EXAMPLE_DATA"
 
 
 def test_study_output_starts_with_its_header(tmp_path, monkeypatch):
@@ -90,7 +91,8 @@ def test_study_output_starts_with_its_header(tmp_path, monkeypatch):
     assert machine.startswith("# machine: ") and "GFLOP/s (one thread)" in machine
     lines = header(["s.py"], machine={"cpu": "c", "cores": 1, "matmul_gflops": None, "torch": "t", "numpy": "n",
                                       "python": "p", "blas": None}, commit="f00", date="d")
-    assert lines.splitlines()[1:] == ["# commit: f00, d", "# machine: c, 1 cores, torch t, numpy n, Python p, BLAS None"]
+    assert lines.splitlines()[1:] == ["# commit: f00, d",
+                                      "# machine: c, 1 cores, torch t, numpy n, Python p, BLAS None"]
 
 
 # --- config hash ---------------------------------------------------------------------------------

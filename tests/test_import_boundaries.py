@@ -183,11 +183,12 @@ def test_the_third_party_check_sees_each_kind_of_private_use(source, expected):
 
 
 @pytest.mark.parametrize("where, source, expected", [
-    ("features/_x.py", "from ..preprocessing._contact_curve import curve", {"sklearn_hardness.preprocessing._contact_curve.curve"}),
+    ("features/_x.py", "from ..preprocessing._contact_curve import curve",
+     {"sklearn_hardness.preprocessing._contact_curve.curve"}),
     ("features/_x.py", "from ..models import _pipelines", {"sklearn_hardness.models._pipelines"}),
     ("features/_x.py", "from sklearn_hardness.datasets._lazy import L", {"sklearn_hardness.datasets._lazy.L"}),
-    ("features/_x.py", "from ..preprocessing import contact_curve\nfrom ..utils._torch import t\nfrom ._common import c",
-     set()),
+    ("features/_x.py",
+     "from ..preprocessing import contact_curve\nfrom ..utils._torch import t\nfrom ._common import c", set()),
     ("_cli/_x.py", "from ..experiments import get_config", set()),
 ])
 def test_the_cross_subpackage_check_sees_private_imports(where, source, expected):

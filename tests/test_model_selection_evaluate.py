@@ -12,15 +12,19 @@ from sklearn.preprocessing import FunctionTransformer
 from sklearn.utils import Bunch
 
 from sklearn_hardness._cli import main
-from sklearn_hardness._registry import PIPELINE_NAMES
+from sklearn_hardness._registry import PIPELINE_NAMES, make_named_pipeline, pipeline_info
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.experiments import run_model_baselines
-from sklearn_hardness._registry import make_named_pipeline, pipeline_info
-from sklearn_hardness.model_selection import (ConfusionMatricesDisplay, EvaluationResult, corrected_interval,
-                                              evaluate_pipelines, format_evaluation)
+from sklearn_hardness.model_selection import (
+    ConfusionMatricesDisplay,
+    EvaluationResult,
+    corrected_interval,
+    evaluate_pipelines,
+    format_evaluation,
+)
 from sklearn_hardness.model_selection._evaluate import _takes_force_position
-from sklearn_hardness.utils._force_position import force_position, presses_lacking_force_position
 from sklearn_hardness.models import make_contact_profile_pipeline, make_peak_change_baseline, peak_contact_change
+from sklearn_hardness.utils._force_position import force_position, presses_lacking_force_position
 
 
 def _run(data, pipelines=None, *, baseline=True, roi=None, random_state=0, error_score="raise", verbose=1,
@@ -553,8 +557,8 @@ def test_roi_reaches_the_baseline_and_every_named_pipeline():
 @pytest.mark.slow
 def test_per_press_steps_run_once_for_all_folds_with_the_same_results(tiny, monkeypatch):
     """Selection and features of each press: one pass for every fold and pipeline that shares them."""
-    from sklearn_hardness.model_selection import _evaluate
     from sklearn_hardness.features import ContactProfileFeatures
+    from sklearn_hardness.model_selection import _evaluate
 
     calls = []
     original = ContactProfileFeatures.fit_transform
@@ -581,10 +585,10 @@ def test_per_press_steps_run_once_for_all_folds_with_the_same_results(tiny, monk
 @pytest.mark.slow
 def test_per_press_pass_gives_the_nets_the_same_inputs(tiny, monkeypatch):
     """The frame selector and frozen DINOv2 features (a tiny random backbone) once for all folds: the same results."""
-    from .test_features_dinov2 import tiny_backbone
-
     from sklearn_hardness.model_selection import _evaluate
     from sklearn_hardness.models import make_convlstm_pipeline, make_dinov2nn_pipeline
+
+    from .test_features_dinov2 import tiny_backbone
 
     def nets():
         return {"convlstm": make_convlstm_pipeline(intensity_channels=True, frame_size=(8, 10), max_epochs=3,
@@ -601,8 +605,8 @@ def test_per_press_pass_gives_the_nets_the_same_inputs(tiny, monkeypatch):
 
 
 def test_all_columns_shares_a_contact_profile_pass_only_where_columns_can_be_taken():
-    from sklearn_hardness.model_selection._per_press import all_columns, prefix_key, split_per_press
     from sklearn_hardness.features import ContactProfileFeatures
+    from sklearn_hardness.model_selection._per_press import all_columns, prefix_key, split_per_press
     from sklearn_hardness.models import make_contact_profile_pipeline
 
     twelve, _ = split_per_press(make_contact_profile_pipeline())
@@ -826,10 +830,9 @@ def test_cli_evaluates_loading_compliance_on_a_simulated_manifest(tmp_path, caps
 
 def test_by_default_evaluate_adds_loading_compliance_where_every_press_has_force_and_position(tiny, monkeypatch):
     from sklearn_hardness._cli import build_parser
+    from sklearn_hardness._cli._evaluate import _force_position
     from sklearn_hardness._registry import DEFAULT_PIPELINES
     from sklearn_hardness.model_selection import _evaluate
-
-    from sklearn_hardness._cli._evaluate import _force_position
 
     assert len(_force_position(tiny, None)) == len(tiny.target)  # the command adds loading_compliance
     assert list(_evaluate._named_estimators(None, None, 0, _force_position(tiny, None))[0]) == [
@@ -897,8 +900,8 @@ def test_flow_note_counts_the_corners_and_lost_tracks_of_every_press(tiny):
     # press has no corner at all, and its row is that of a press without motion
     import warnings
 
-    from sklearn_hardness.model_selection._per_press import split_per_press, transform_per_press
     from sklearn_hardness.features import OpticalFlowFeatures
+    from sklearn_hardness.model_selection._per_press import split_per_press, transform_per_press
     from sklearn_hardness.preprocessing import ContactFrameSelector
 
     data = Bunch(**tiny)
@@ -1010,11 +1013,11 @@ def test_contact_geometry_features_are_computed_once_per_press():
 
 
 def test_named_pipeline_memory_makes_a_second_fit_of_the_same_steps_a_cache_hit(tiny, tmp_path):
+    import functools
+
     from joblib import Memory
 
     from sklearn_hardness.features import _contact_geometry
-
-    import functools
 
     calls = []
     original = _contact_geometry._press_row

@@ -7,7 +7,6 @@ from sklearn.utils.class_weight import compute_class_weight
 
 from sklearn_hardness.models import ConvLSTMClassifier, DINOv2NNClassifier, OFNNClassifier
 
-
 pytestmark = pytest.mark.torch_threads(1)
 
 

@@ -12,12 +12,12 @@ from sklearn.linear_model import LogisticRegression
 from sklearn.model_selection import StratifiedKFold, cross_val_score
 
 from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation
-from sklearn_hardness.models import make_peak_change_baseline
 from sklearn_hardness.models import (
     ContactProfileNNClassifier,
     LaplaceLogisticRegression,
     MCDropoutPipeline,
     make_contact_profile_pipeline,
+    make_peak_change_baseline,
 )
 
 from ._synthetic import growing_disc_press

@@ -8,7 +8,6 @@ from sklearn_hardness.models import ConvLSTMClassifier
 from sklearn_hardness.models._convlstm import ConvLSTMLayer, ConvLSTMNet
 from tests._threads import torch_threads
 
-
 pytestmark = pytest.mark.torch_threads(1)
 
 

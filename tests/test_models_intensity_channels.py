@@ -4,8 +4,8 @@ from sklearn.base import clone
 from sklearn.exceptions import NotFittedError
 
 from sklearn_hardness.models import ConvLSTMClassifier, make_convlstm_pipeline, make_ofnn_pipeline
-from sklearn_hardness.models._pipelines import FrameScaler
 from sklearn_hardness.models._intensity_channels import IntensityChannels
+from sklearn_hardness.models._pipelines import FrameScaler
 
 from ._exp_data import tiny_presses
 

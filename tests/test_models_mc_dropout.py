@@ -119,9 +119,8 @@ def test_chunking_gives_same_result_without_dropout(case):
 
 def test_bad_dropout_via_set_params_is_reported_at_use_not_stored_in_the_module(case):
     # sklearn convention: set_params never raises; the value is checked where it is used.
-    from sklearn_hardness.utils._param_validation import InvalidParameterError
-
     from sklearn_hardness.models._mc_sampling import MCDropout
+    from sklearn_hardness.utils._param_validation import InvalidParameterError
 
     cls, kind, kw, X, y, net = case
     before = [m.p for m in net.module_.modules() if isinstance(m, MCDropout)]

@@ -12,7 +12,6 @@ from sklearn.preprocessing import StandardScaler
 from sklearn_hardness.models import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
 from sklearn_hardness.models._mlp import MLPHead
 
-
 pytestmark = pytest.mark.torch_threads(1)
 
 

@@ -24,7 +24,6 @@ from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import make_pipeline
 
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.models import make_peak_change_baseline, peak_contact_change
 from sklearn_hardness.features import ContactProfileFeatures, OpticalFlowFeatures
 from sklearn_hardness.models import (
     ConvLSTMClassifier,
@@ -32,9 +31,11 @@ from sklearn_hardness.models import (
     make_contact_profile_pipeline,
     make_convlstm_pipeline,
     make_ofnn_pipeline,
+    make_peak_change_baseline,
+    peak_contact_change,
 )
-from sklearn_hardness.models._pipelines import FrameScaler
 from sklearn_hardness.models._intensity_channels import IntensityChannels
+from sklearn_hardness.models._pipelines import FrameScaler
 
 from ._presets import EVERYDAY_BEFORE
 

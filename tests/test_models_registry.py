@@ -1,18 +1,18 @@
 """One table of named pipelines: a name is one model in evaluate, reproduce, the command line and for users."""
 
 import ast
-import re
 import pathlib
+import re
 import subprocess
 import sys
 
 import pytest
 from sklearn.base import BaseEstimator
 
+from sklearn_hardness._cli._evaluate import _estimators
 from sklearn_hardness._registry import DEFAULT_PIPELINES, EXPERIMENT_MODELS, PipelineInfo
 from sklearn_hardness.experiments import get_config
 from sklearn_hardness.experiments._config import check_config
-from sklearn_hardness._cli._evaluate import _estimators
 from sklearn_hardness.experiments._models import make_estimator, model_pipeline
 from sklearn_hardness.models import (
     make_convlstm_pipeline,

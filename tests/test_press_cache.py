@@ -10,8 +10,12 @@ from sklearn.base import clone
 from sklearn.model_selection import GroupKFold, cross_val_score
 
 from sklearn_hardness.datasets._lazy import LazyVideoSequence
-from sklearn_hardness.features import ContactGeometryFeatures, ContactProfileFeatures, ImprintTextureFeatures
-from sklearn_hardness.features import _contact_geometry
+from sklearn_hardness.features import (
+    ContactGeometryFeatures,
+    ContactProfileFeatures,
+    ImprintTextureFeatures,
+    _contact_geometry,
+)
 from sklearn_hardness.models import make_named_pipeline
 
 from ._synthetic import synthetic_press

@@ -90,4 +90,3 @@ def main(argv=None):
         print(f"{args._command_parser.prog}: interrupted ({name}); finished work is kept, rerun the same "
               "command to resume", file=sys.stderr)
         return 128 + int(getattr(signal, name, signal.SIGINT))
-

@@ -6,6 +6,7 @@ import os
 
 from ._common import _add_quiet, _UsageError
 
+
 def _add_cache(sub):
     p = sub.add_parser(
         "cache",

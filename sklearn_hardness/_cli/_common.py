@@ -141,4 +141,3 @@ def _reproduce_command(argv):
 
 #: Presets the parser offers without importing the library (a test checks them against it).
 _SIM_PRESETS = ("everyday", "shore9", "silicone5")  # datasets.make_presses
-

@@ -21,6 +21,7 @@ from ._common import (
     _user_errors,
 )
 
+
 def _pipelines_epilog():
     """The pipelines' names with their one-line summaries, from the registry."""
     width = max(map(len, PIPELINE_NAMES))
@@ -33,7 +34,8 @@ def _add_evaluate(sub):
         "evaluate",
         help="object-disjoint cross-validation of pipelines on your recordings or a preset",
         description="Cross-validate pipelines with folds grouped by object_id, or by the manifest column "
-        "--groups names (no test group is seen in training), print balanced accuracy and hardness MAE per pipeline beside the "
+        "--groups names (no test group is seen in training), print balanced accuracy and hardness MAE per "
+        "pipeline beside the "
         "one-number baseline (peak change to the first frame + balanced logistic regression) with "
         "each pipeline's margin over it paired by fold, name the pipeline to choose (the best one "
         "whose margin's 95% interval lies above 0; and the best with predict_proba_samples, for "
@@ -116,10 +118,10 @@ def _force_position(data, names):
 
 
 def _run_evaluate(args):
-    from ._header import output_header, read_header
     from .._registry import make_named_pipeline
     from ..model_selection import ConfusionMatricesDisplay, evaluate_pipelines, format_evaluation
     from ..utils._validation import check_roi
+    from ._header import output_header, read_header
 
     _check_out_dir(args.out)
     data = _load(args)

@@ -6,6 +6,7 @@ import contextlib
 
 from ._common import _add_quiet, _float_type, _int_type, _nonnegative_int, _positive_int, _UsageError, _user_errors
 
+
 def _add_record(sub):
     p = sub.add_parser(
         "record",
@@ -43,9 +44,9 @@ def _run_record(args):
 
     import cv2
 
-    from ..utils._manifest import append_manifest_row, complete_manifest_row
     from ..io import record_video
     from ..preprocessing import ContactFrameSelector
+    from ..utils._manifest import append_manifest_row, complete_manifest_row
 
     if args.n_frames is not None and args.duration is not None:
         raise _UsageError("pass --n-frames or --duration, not both")
@@ -91,5 +92,6 @@ def _run_record(args):
     if s.contact_found[0]:
         print(f"contact selection: {s.status[0]} from frame {s.contact_start[0]} to {s.contact_peak[0]}")
     else:
-        print(f"contact selection: {s.status[0]} -- check the press (sklearn-hardness select {out / 'manifest.csv'} --plot curves.png)")
+        print(f"contact selection: {s.status[0]} -- check the press "
+              f"(sklearn-hardness select {out / 'manifest.csv'} --plot curves.png)")
     return 0

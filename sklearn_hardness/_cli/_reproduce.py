@@ -23,6 +23,7 @@ from ._common import (
     _user_errors,
 )
 
+
 def _quick_help():
     from .._experiment_names import QUICK_OVERRIDES  # no torch: --help stays fast
 
@@ -159,7 +160,6 @@ def _reproduce_config(args):
 def _run_reproduce(args):
     import time
 
-    from ..utils._unreadable import UnreadableVideosError
     from ..experiments import (
         comparison_table,
         format_paired_table,
@@ -170,6 +170,7 @@ def _run_reproduce(args):
         run_active_sampling,
         save_figures,
     )
+    from ..utils._unreadable import UnreadableVideosError
     from ._header import output_header
 
     config = _reproduce_config(args)
@@ -245,7 +246,7 @@ def _run_reproduce(args):
         with open(os.path.join(args.out, "paired.txt"), "w") as f:
             f.write(provenance + "\n" + header + "\n" + paired + "\n")
     with open(os.path.join(args.out, "config.json"), "w") as f:
-        json.dump({k: v for k, v in cfg.items()}, f, indent=2, default=repr)
+        json.dump(dict(cfg), f, indent=2, default=repr)
     paths = save_figures(result, args.out)
     extra = "paired.txt, " if os.path.exists(os.path.join(args.out, "paired.txt")) else ""
     print(f"wrote {results_path}, table.txt, {extra}config.json and {len(paths)} figures to {args.out} "

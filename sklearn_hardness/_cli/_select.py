@@ -82,9 +82,9 @@ def _run_select(args):
     import numpy as np
 
     from ..datasets import load_press_videos
-    from ..utils._unreadable import raise_unreadable
-    from ..utils._manifest import manifest_file
     from ..preprocessing import ContactFrameSelector
+    from ..utils._manifest import manifest_file
+    from ..utils._unreadable import raise_unreadable
     from ..utils._validation import check_roi, rename_videos
 
     fmt = _select_format(args)

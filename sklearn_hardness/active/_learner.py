@@ -7,7 +7,6 @@ import inspect
 from numbers import Integral, Real
 
 import numpy as np
-from skorch import NeuralNet
 from sklearn.base import (
     BaseEstimator,
     ClassifierMixin,
@@ -19,6 +18,7 @@ from sklearn.metrics import accuracy_score
 from sklearn.pipeline import Pipeline
 from sklearn.utils import check_random_state
 from sklearn.utils.validation import check_is_fitted
+from skorch import NeuralNet
 
 from ..models import EnsembleClassifier
 from ..utils._param_validation import (

@@ -138,8 +138,8 @@ class PressOracle:
         if groups is None:
             # one object per class: the class's presses in one seeded order (as always)
             self._order = {c: self._rng.permutation(m) for c, m in self._members.items()}
-            self._next = {c: 0 for c in self._members}
-            self.n_pressed_ = {c: 0 for c in self._members}
+            self._next = dict.fromkeys(self._members, 0)
+            self.n_pressed_ = dict.fromkeys(self._members, 0)
         else:
             g = np.asarray(groups)
             if g.shape != y.shape:
@@ -156,8 +156,8 @@ class PressOracle:
             objects = [o for c in self._members for o in self._objects[c]]
             self._obj_members = {o: np.flatnonzero(g == o) for o in objects}
             self._order = {o: self._rng.permutation(m) for o, m in self._obj_members.items()}
-            self._next = {o: 0 for o in objects}
-            self.n_pressed_ = {o: 0 for o in objects}
+            self._next = dict.fromkeys(objects, 0)
+            self.n_pressed_ = dict.fromkeys(objects, 0)
         self.drawn_ = []
         self.drawn_objects_ = []
 

@@ -306,7 +306,8 @@ def render_everyday_press(sensor, obj, mech, center_mm, rng, params):
     elev_l, elev_z = sensor.l_xy, sensor.l_z
     denom = np.float32(sensor.ambient + elev_z)
     lights = [(np.float32(elev_l * np.cos(p)), np.float32(elev_l * np.sin(p))) for p in sensor.azimuth]
-    lat = params["lateral_gain_object"] * mech["object_indentation"] + params["lateral_gain_gel"] * mech["gel_indentation"]
+    lat = (params["lateral_gain_object"] * mech["object_indentation"]
+           + params["lateral_gain_gel"] * mech["gel_indentation"])
     video = np.empty((n_frames, h, w, 3), np.uint8)
     buf = np.empty((h, w, 3), np.float32)
     for t in range(n_frames):

@@ -164,11 +164,13 @@ EVERYDAY_SPECS = {
     "moderate_compliance_range": ("range", 1e-3, 100.0, "object compliance of moderate objects ~ logU[lo, hi], mm/N"),
     "hard_compliance_range": ("range", 1e-4, 100.0, "object compliance of hard objects ~ logU[lo, hi], mm/N"),
     "texture_amplitude": ("array", 0.0, 2.0, "relative texture depth of soft, moderate and hard objects"),
-    "kinds_by_rank": ("bool", None, None, "True: each rank has its own kinds of object (foams soft, pen tips hard, ...); "
+    "kinds_by_rank": ("bool", None, None, "True: each rank has its own kinds of object (foams soft, pen tips hard, "
+                      "...); "
                       "False: every rank draws from all kinds, so shape and texture say nothing about hardness"),
     "conformity": ("float", 0.0, 100.0, "a compliant object's imprint is smoothed over conformity x its share of the "
                    "deformation x the contact size (0: every object pressed in with its rigid shape)"),
-    "gel_spread": ("float", 0.0, 10.0, "s.d. of the gel's own spreading of every imprint, mm: an elastomer layer smooths "
+    "gel_spread": ("float", 0.0, 10.0, "s.d. of the gel's own spreading of every imprint, mm: an elastomer layer "
+                   "smooths "
                    "features narrower than its thickness (0: the surface follows the object's shape)"),
     "object_rounding": ("float", 0.0, 10.0, "a compliant object rounds its edges, ridges and texture against the gel: "
                         "its imprint is smoothed over object_rounding x its own indentation, mm (0: rigid shapes)"),

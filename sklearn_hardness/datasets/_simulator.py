@@ -47,8 +47,14 @@ from sklearn.utils import Bunch, check_random_state
 
 from ._sim_everyday import EVERYDAY_RANKS, check_codec, sample_objects, sample_press
 from ._sim_mechanics import simulate_press
-from ._sim_presets import (EVERYDAY_SPECS, PARAM_SPECS, PRESETS, modulus_to_compliance, resolve_params,
-                           shore00_to_modulus)
+from ._sim_presets import (
+    EVERYDAY_SPECS,
+    PARAM_SPECS,
+    PRESETS,
+    modulus_to_compliance,
+    resolve_params,
+    shore00_to_modulus,
+)
 from ._sim_videos import SimulatedPressVideos, _CodecSimulation, _EverydaySimulation, _Simulation
 
 __all__ = ["make_presses", "SimulatedPressVideos", "object_compliance"]
@@ -101,7 +107,8 @@ def _descr(preset, params, n, image_size):
         "",
         params["description"],
         "",
-        f"Presses: {n} ({params.get('n_objects', len(params['hardness']))} objects); frames {image_size[0]}x{image_size[1]} RGB "
+        f"Presses: {n} ({params.get('n_objects', len(params['hardness']))} objects); "
+        f"frames {image_size[0]}x{image_size[1]} RGB "
         f"uint8 at {params['fps']:g} fps.",
         f"Hardness ({params['hardness_unit']}): {', '.join(f'{h:g}' for h in params['hardness'])}.",
         "",
@@ -351,7 +358,7 @@ def _make_flat(preset, params, n_per_class, markers, image_size, shuffle, return
         object_id=np.array([f"{preset}-object{c}" for c in target]),
         press_params=pp,
         fps=params["fps"],
-        params={k: v for k, v in params.items()},
+        params=dict(params),
         DESCR=_descr(preset, params, n, image_size),
     )
     if return_mechanics:
@@ -438,7 +445,7 @@ def _make_everyday(params, n_per_class, markers, image_size, shuffle, return_mec
         objects=[dict(o) for o in objects],
         press_params=pp,
         fps=params["fps"],
-        params={k: v for k, v in params.items()},
+        params=dict(params),
         DESCR=_descr("everyday", params, n, image_size),
     )
     if return_mechanics:

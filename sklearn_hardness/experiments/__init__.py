@@ -25,13 +25,13 @@ Object-disjoint evaluation of pipelines on new objects is
 
 from ._active import run_active_sampling
 from ._baselines import run_dropout_sweep, run_model_baselines
-from ._plotting import plot_active_sampling, plot_model_baselines, plot_uncertainty, save_figures
-from ._stats import format_paired_table, format_presses_to_reach, paired_table, presses_to_reach
-from ._tables import baseline_table, comparison_table, format_table
 from ._config import check_config, get_config
 from ._data import clear_cache, default_cache_dir, load_dataset
+from ._plotting import plot_active_sampling, plot_model_baselines, plot_uncertainty, save_figures
 from ._protocol import run_paper_protocol
 from ._results import ExperimentResult
+from ._stats import format_paired_table, format_presses_to_reach, paired_table, presses_to_reach
+from ._tables import baseline_table, comparison_table, format_table
 
 __all__ = [
     "run_active_sampling",

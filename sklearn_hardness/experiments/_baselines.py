@@ -7,14 +7,14 @@ import warnings
 
 import numpy as np
 
+from .._registry import make_named_pipeline
 from ..metrics import hardness_mae
+from ..model_selection import evaluate_pipelines
 from ..models import is_converged
 from ..utils._random import derived_seeds
 from ._config import config_hash, default_preset, get_config, resolve_convergence_threshold, run_config
 from ._data import prepare_inputs
 from ._models import input_scaler, make_estimator
-from .._registry import make_named_pipeline
-from ..model_selection import evaluate_pipelines
 from ._results import ExperimentResult, ResultsStore
 from ._runner import run_tasks
 

@@ -175,7 +175,8 @@ def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=N
 
 
 def _code_fingerprint():
-    """Hash of the code that makes the inputs (simulator, reader, selector, features): a change invalidates the cache."""
+    """Hash of the code that makes the inputs (simulator, reader, selector, features): a change invalidates
+    the cache."""
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     h = hashlib.sha256()
     for sub in ("datasets", "io", "preprocessing", "features"):

@@ -21,10 +21,15 @@ import numpy as np
 from sklearn.base import BaseEstimator, clone
 from sklearn.pipeline import Pipeline
 
-from .._registry import EXPERIMENT_MODELS, builder, make_named_pipeline, pipeline_info
 from .. import models
-from ..features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, LoadingCompliance,
-                        OpticalFlowFeatures)
+from .._registry import EXPERIMENT_MODELS, builder, make_named_pipeline, pipeline_info
+from ..features import (
+    ContactGeometryFeatures,
+    ContactProfileFeatures,
+    DINOv2Features,
+    LoadingCompliance,
+    OpticalFlowFeatures,
+)
 from ..models import EarlyStoppingAfterFirstFit, FrameScaler
 from ..utils._random import set_random_states
 

@@ -122,7 +122,8 @@ class ResultsStore:
         kid = key_id(rec["key"])
         if kid in self._ids:
             warnings.warn(
-                f"{self.path}: duplicate run {kid}; the first one is kept.", UserWarning, stacklevel=external_stacklevel()
+                f"{self.path}: duplicate run {kid}; the first one is kept.", UserWarning,
+                stacklevel=external_stacklevel(),
             )
             return
         self._ids.add(kid)

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..utils._feature_names import check_feature_names, feature_columns  # moved to utils
-
 _GREY_WEIGHTS = np.array([0.299, 0.587, 0.114], dtype=np.float32)  # ITU-R BT.601, RGB order
 
 

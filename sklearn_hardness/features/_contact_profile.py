@@ -7,17 +7,15 @@ import os
 
 import cv2
 import numpy as np
-from joblib import Parallel, delayed
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
+from ..utils._feature_names import CONTACT_PROFILE_FEATURE_NAMES, check_feature_names, feature_columns
 from ..utils._frames import as_float255, check_float_range
 from ..utils._param_validation import HasMethods, Interval, StrOptions, fit_context
 from ..utils._press_cache import press_rows
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
-from ..utils._feature_names import CONTACT_PROFILE_FEATURE_NAMES
-from ._common import check_feature_names, feature_columns
 
 __all__ = ["ContactProfileFeatures"]
 

@@ -21,8 +21,8 @@ from ..utils._param_validation import (
     ValueRange,
     fit_context,
 )
-from ..utils._validation import check_frames_array
 from ..utils._tags import frames_tags
+from ..utils._validation import check_frames_array
 from ._common import sample_range
 
 __all__ = ["DINOv2Features"]

@@ -24,11 +24,11 @@ from skimage.feature import graycomatrix, graycoprops, local_binary_pattern
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
+from ..utils._feature_names import check_feature_names
 from ..utils._param_validation import HasMethods, Interval, StrOptions, fit_context
 from ..utils._press_cache import press_rows
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video_sequence
-from ._common import check_feature_names
 from ._contact_geometry import _block_mean, _checked_roi, _chroma_gradients
 from ._loading_moments import _frame_medians, _norm, loading_moments
 
@@ -101,7 +101,8 @@ def _lbp(levels, region):
 
 
 def _glcm(levels):
-    """Co-occurrence contrast, dissimilarity, homogeneity, energy, correlation at four distances, mean of four angles."""
+    """Co-occurrence contrast, dissimilarity, homogeneity, energy and correlation at four distances, mean of four
+    angles."""
     matrix = graycomatrix(levels, _GLCM_DISTANCES, _ANGLES, levels=_LEVELS, symmetric=True, normed=True)
     return np.concatenate([graycoprops(matrix, prop).mean(axis=1) for prop in _GLCM_PROPS])
 

@@ -9,11 +9,11 @@ import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
+from ..utils._feature_names import check_feature_names, feature_columns
 from ..utils._param_validation import Interval, StrOptions, fit_context
 from ..utils._tags import force_position_tags
 from ..utils._validation import check_force_position
 from ..utils._warnings import external_stacklevel
-from ._common import check_feature_names, feature_columns
 
 __all__ = ["LoadingCompliance"]
 

@@ -13,9 +13,9 @@ from sklearn.utils import Bunch
 from sklearn.utils.validation import check_is_fitted
 
 from ..utils._param_validation import Interval, Pair, StrOptions, ValueRange, fit_context
-from ..utils._warnings import external_stacklevel
-from ..utils._validation import check_frames_array
 from ..utils._tags import frames_tags
+from ..utils._validation import check_frames_array
+from ..utils._warnings import external_stacklevel
 from ._common import to_uint8_grey
 from ._lk_tracking import MAGNITUDE_QUANTILES as _MAGNITUDE_QUANTILES
 from ._lk_tracking import hold_last as _hold_last

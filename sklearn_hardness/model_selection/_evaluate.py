@@ -21,15 +21,15 @@ from sklearn.base import BaseEstimator, clone
 from sklearn.metrics import balanced_accuracy_score, confusion_matrix
 from sklearn.pipeline import Pipeline
 from sklearn.utils import _safe_indexing
-from ..utils._param_validation import HasMethods, Interval, StrOptions, validate_params
 
 from .._registry import PIPELINE_NAMES, default_pipelines, make_named_pipeline
-from ..utils._unreadable import raise_unreadable
 from ..features import ConventionWarning, LoadingCompliance, OpticalFlowFeatures
 from ..metrics import hardness_mae
 from ..utils._intervals import _interval
+from ..utils._param_validation import HasMethods, Interval, StrOptions, validate_params
 from ..utils._progress import ProgressLog
 from ..utils._random import int_seed
+from ..utils._unreadable import raise_unreadable
 from ._intervals import paired_difference
 from ._per_press import FailingPressesError, all_columns, describe, prefix_key, split_per_press, transform_per_press
 from ._result import EvaluationResult

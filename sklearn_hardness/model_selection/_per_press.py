@@ -26,8 +26,13 @@ from sklearn.pipeline import Pipeline
 from sklearn.preprocessing import FunctionTransformer
 from sklearn.utils import _safe_indexing
 
-from ..features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, ImprintTextureFeatures,
-                        OpticalFlowFeatures)
+from ..features import (
+    ContactGeometryFeatures,
+    ContactProfileFeatures,
+    DINOv2Features,
+    ImprintTextureFeatures,
+    OpticalFlowFeatures,
+)
 from ..models import peak_contact_change
 from ..preprocessing import ContactFrameSelector
 from ..utils._feature_names import CONTACT_PROFILE_FEATURE_NAMES, feature_columns

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 __all__ = ["EvaluationResult", "SummaryTable"]
 
 _INTERVALS = ("balanced_accuracy", "vs_baseline", "mae", "object_balanced_accuracy", "object_vs_baseline")

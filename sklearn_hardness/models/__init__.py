@@ -31,6 +31,7 @@ convergence rule and :func:`chance_scaled_threshold` carries its threshold
 over to other numbers of classes.
 """
 
+from .._registry import make_named_pipeline, pipeline_info, pipeline_names
 from ._augmentation import FrameAugmenter
 from ._callbacks import EarlyStoppingAfterFirstFit
 from ._convergence import chance_scaled_threshold, is_converged
@@ -39,21 +40,20 @@ from ._ensemble import EnsembleClassifier
 from ._imprint_cnn import ImprintCNNClassifier
 from ._laplace import LaplaceLogisticRegression
 from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
+from ._peak_change import make_peak_change_baseline, peak_contact_change
 from ._pipelines import (
     FrameScaler,
     MCDropoutPipeline,
     make_contact_geometry_pipeline,
-    make_imprint_texture_pipeline,
     make_contact_profile_pipeline,
     make_convlstm_pipeline,
     make_dinov2nn_pipeline,
     make_imprint_cnn_pipeline,
+    make_imprint_texture_pipeline,
     make_loading_compliance_pipeline,
     make_ofnn_pipeline,
 )
-from ._peak_change import make_peak_change_baseline, peak_contact_change
 from ._stacked import StackedConvLSTMNet
-from .._registry import make_named_pipeline, pipeline_info, pipeline_names
 
 __all__ = [
     "pipeline_names",

@@ -212,4 +212,3 @@ class FrameAugmenter(BaseEstimator):
         if log_channels:
             out[..., log_channels] = out[..., log_channels] + torch.log(factor).to(dev, dtype)[:, :, None, None, None]
         return out
-

@@ -380,4 +380,3 @@ class ConvLSTMClassifier(FramesNetMixin, MCDropoutClassifierBase):
         # per layer: input sequence + projected input (4h) + output sequence (h)
         per_step = max(chans[i] + 5 * chans[i + 1] for i in range(len(chans) - 1))
         return 4 * k * H * W * per_step
-

@@ -19,8 +19,14 @@ from sklearn.preprocessing import FunctionTransformer, StandardScaler
 from sklearn.utils.metaestimators import available_if
 from sklearn.utils.validation import check_is_fitted
 
-from ..features import (ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, ImprintTextureFeatures,
-                        LoadingCompliance, OpticalFlowFeatures)
+from ..features import (
+    ContactGeometryFeatures,
+    ContactProfileFeatures,
+    DINOv2Features,
+    ImprintTextureFeatures,
+    LoadingCompliance,
+    OpticalFlowFeatures,
+)
 from ..preprocessing import ContactFrameSelector
 from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
@@ -156,7 +162,7 @@ def _selector(n_between, frame_size, color, roi, subtract_first=True):
 
 def make_convlstm_pipeline(*, n_between=2, frame_size=(12, 16), color="gray", intensity_channels=False,
                            augment=False, roi=None, **classifier_params):
-    """Videos -> contact frames -> ``FrameScaler`` -> [``IntensityChannels``] -> :class:`~sklearn_hardness.models.ConvLSTMClassifier`.
+    """Videos -> contact frames -> ``FrameScaler`` -> [``IntensityChannels``] -> ConvLSTM classifier.
 
     Which input is best depends on whether the test objects were seen in
     training:
@@ -284,7 +290,7 @@ def make_imprint_cnn_pipeline(*, k=8, frame_size=(60, 80), color="rgb", roi=None
 
 def make_ofnn_pipeline(*, n_between=2, frame_size=(120, 160), n_features=500, flow_output="magnitude_quantiles",
                        roi=None, **classifier_params):
-    """Videos -> contact frames -> :class:`~sklearn_hardness.features.OpticalFlowFeatures` -> :class:`~sklearn_hardness.models.OFNNClassifier`.
+    """Videos -> contact frames -> optical-flow features -> the OFNN classifier.
 
     Parameters
     ----------
@@ -332,7 +338,7 @@ def make_ofnn_pipeline(*, n_between=2, frame_size=(120, 160), n_features=500, fl
 
 def make_dinov2nn_pipeline(*, n_between=1, frame_size=(112, 150), model="facebook/dinov2-small", roi=None,
                            **classifier_params):
-    """Videos -> contact frames -> :class:`~sklearn_hardness.features.DINOv2Features` -> :class:`~sklearn_hardness.models.DINOv2NNClassifier`.
+    """Videos -> contact frames -> frozen DINOv2 features -> the DINOv2NN classifier.
 
     Parameters
     ----------
@@ -567,7 +573,7 @@ def _table_head(head, classifier_params):
 
 def make_contact_geometry_pipeline(*, head="logistic", features="scale_free", with_profile=False, max_side=80, roi=None,
                                    **classifier_params):
-    """Videos -> :class:`~sklearn_hardness.features.ContactGeometryFeatures` (and optionally the contact profile) -> scaler -> classifier.
+    """Videos -> contact-geometry features (and optionally the contact profile) -> scaler -> classifier.
 
     Parameters
     ----------

@@ -35,7 +35,7 @@ def _flat(name):
 
 
 class StackedConvLSTMNet(torch.nn.Module):
-    """K independent copies of a net (e.g. the ConvLSTM net of :class:`ConvLSTMClassifier`) trained and run as one module.
+    """K independent copies of a net (e.g. the ConvLSTM of :class:`ConvLSTMClassifier`) trained and run as one module.
 
     Parameter ``p`` of member ``k`` is row ``k`` of the stacked parameter
     (shape ``(K,) + p.shape``; the dots of its name become ``__``). A forward

@@ -12,6 +12,7 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils import Bunch
 from sklearn.utils.validation import check_is_fitted
 
+from ..utils._frames import as_float255
 from ..utils._param_validation import (
     FRAME_SIZE,
     Hidden,
@@ -23,8 +24,6 @@ from ..utils._param_validation import (
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
 from ..utils._warnings import external_stacklevel
-
-from ..utils._frames import as_float255
 from ._contact_curve import _contact_window, _min_frames_auto, _select_one
 
 __all__ = ["ContactFrameSelector", "ContactNotFoundWarning"]

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 __all__ = ["CONTACT_PROFILE_FEATURE_NAMES", "check_feature_names", "feature_columns"]
 
-#: Every feature of :class:`~sklearn_hardness.features.ContactProfileFeatures`, in output order when ``features="all"`` (the last two, ``log_loading_time`` and ``log_contact_spread``, were added later).
+#: Every feature of :class:`~sklearn_hardness.features.ContactProfileFeatures`, in output order when
+#: ``features="all"`` (the last two, ``log_loading_time`` and ``log_contact_spread``, were added later).
 CONTACT_PROFILE_FEATURE_NAMES = (
     "log_peak_change",
     "peak_over_precontact",

@@ -75,7 +75,6 @@ from numbers import Integral, Real
 
 import numpy as np
 from scipy.sparse import issparse
-
 from sklearn import config_context, get_config
 from sklearn.exceptions import NotFittedError
 from sklearn.utils.validation import check_is_fitted
@@ -915,10 +914,15 @@ def fit_context(*, prefer_skip_nested_validation):
     ...     @fit_context(prefer_skip_nested_validation=True)
     ...     def fit(self, X=None, y=None):
     ...         return self
-    >>> Stub(k=0).fit()
+    >>> Stub(k=0).fit()  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    sklearn_hardness.utils._param_validation.InvalidParameterError: The 'k' parameter of Stub must be an int in the range [1, inf). Got 0 instead.
+    sklearn_hardness.utils._param_validation.InvalidParameterError: The 'k' parameter of Stub must be an int in ...
+    >>> try:
+    ...     Stub(k=0).fit()
+    ... except ValueError as exc:
+    ...     print(exc)
+    The 'k' parameter of Stub must be an int in the range [1, inf). Got 0 instead.
     """
 
     def decorator(fit_method):

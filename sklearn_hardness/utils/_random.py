@@ -12,7 +12,6 @@ import numbers
 import numpy as np
 from sklearn.utils import check_random_state
 
-
 #: Seeds are drawn below this bound (a non-negative int32, accepted by every seeding API).
 SEED_BOUND = 2**31 - 1
 

@@ -12,7 +12,7 @@ than leaving a fold out of a study's figure.
 """
 
 from sklearn_hardness.model_selection import evaluate_pipelines
-from sklearn_hardness.model_selection._force_position import force_position, presses_lacking_force_position
+from sklearn_hardness.utils._force_position import force_position, presses_lacking_force_position
 
 
 def evaluate_dataset(data, estimators=None, *, groups=None, error_score="raise", **kwargs):

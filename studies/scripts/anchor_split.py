@@ -29,12 +29,12 @@ import argparse
 import time
 import warnings
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
+from _physiclear import load_development
 from sklearn.dummy import DummyClassifier
 from sklearn.metrics import accuracy_score, balanced_accuracy_score
 
-import _harness  # noqa: F401 - puts the repository root on sys.path
-from _physiclear import load_development
 from harness.memory import peak_rss_mb
 from harness.provenance import report
 from sklearn_hardness.models import make_named_pipeline, pipeline_names

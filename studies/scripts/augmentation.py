@@ -27,16 +27,16 @@ seeds, time and peak memory.
 import argparse
 import time
 
-import numpy as np
-
-from _estimate_modulus import GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
 import _harness  # noqa: F401 - puts the repository root on sys.path
+import numpy as np
+from _estimate_modulus import GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
 from _evaluate_dataset import evaluate_dataset
-from harness.memory import peak_rss_mb
-from harness.provenance import write_output
 from sim_confounds import recall_per_rank
 from sim_to_real import simulated
 from sim_vs_real_stats import parse_param
+
+from harness.memory import peak_rss_mb
+from harness.provenance import write_output
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.models import make_convlstm_pipeline
 

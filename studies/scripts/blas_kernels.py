@@ -32,6 +32,7 @@ import time
 from collections import defaultdict
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
+
 from harness.machine import machine_reference
 from harness.provenance import report
 

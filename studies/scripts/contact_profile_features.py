@@ -53,29 +53,30 @@ channels; its :class:`FrameScaler` fitted on each fold's training presses).
         [--variant NAME] [--param NAME=VALUE ...] [--heads] [--net-inputs] [--out FILE]
 
 Prints a markdown table (one column per seed and the mean), the correlations,
-time and peak memory; ``--out`` writes the same text with a provenance line. The ideal rows use the renderer's private profile
-function (``sklearn_hardness.datasets._sim_everyday``): they follow it.
+time and peak memory; ``--out`` writes the same text with a provenance line. The ideal rows use the renderer's
+private profile function (``sklearn_hardness.datasets._sim_everyday``): they follow it.
 """
 
 import argparse
 import time
 import warnings
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
+from _sim_variants import VARIANTS, variant_params
 from joblib import Parallel, delayed
 from scipy.stats import spearmanr
+from sim_vs_real_stats import parse_param, press_objects
 from sklearn.linear_model import LogisticRegression
 from sklearn.metrics import balanced_accuracy_score
 from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
-import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import report
-from _sim_variants import VARIANTS, variant_params
-from sim_vs_real_stats import parse_param, press_objects
 from sklearn_hardness.features import ContactProfileFeatures
+
 # private: evaluate's rule for an object's class from its presses' probabilities
 from sklearn_hardness.model_selection._evaluate import _class_proba, _per_object
 from sklearn_hardness.models import make_named_pipeline
@@ -191,7 +192,8 @@ def net_inputs(videos, n_jobs):
 
 
 def intensity_statistics(train_frames, frames):
-    """Per selected frame, the values of the ConvLSTM pipeline's intensity channels, its scaler fitted on ``train_frames``."""
+    """Per selected frame, the values of the ConvLSTM pipeline's intensity channels, its scaler fitted on
+    ``train_frames``."""
     from sklearn_hardness.models import make_convlstm_pipeline
 
     steps = make_convlstm_pipeline(intensity_channels=True).named_steps  # its FrameScaler and IntensityChannels
@@ -300,7 +302,8 @@ def main(argv=None):
     for name in results[0][1]:
         lines.append(f"| {name} | " + " | ".join(f"{r[1][name]:.2f}" for r in results) + " |")
     if args.heads:
-        lines += ["", "The twelve features with other heads (same folds, standardised features, balanced class weights)", ""]
+        lines += ["", "The twelve features with other heads (same folds, standardised features, balanced class "
+                  "weights)", ""]
         lines += mean_table("head", args.seeds, list(results[0][4]), [r[4] for r in results])
     if args.net_inputs:
         lines += ["", "The paper's nets' inputs with the same logistic regression, alone and beside the twelve "

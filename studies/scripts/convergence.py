@@ -21,9 +21,9 @@ import time
 import numpy as np
 import torch
 from joblib import Parallel, delayed
+from mc_share import silicone5_frames, split  # the script's folder is on sys.path
 from skorch.callbacks import GradientNormClipping, LRScheduler
 
-from mc_share import silicone5_frames, split  # the script's folder is on sys.path
 from sklearn_hardness.models import ConvLSTMClassifier, is_converged
 
 

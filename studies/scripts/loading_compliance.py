@@ -33,9 +33,9 @@ import argparse
 import time
 import warnings
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 
-import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.memory import peak_rss_mb, reset_peak
 
 #: Inputs compared across forces: label -> (``features``, position source, ``drive_compliance`` from the preset).
@@ -83,6 +83,7 @@ def main(argv=None):
     ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
     args = ap.parse_args(argv)
     from _evaluate_dataset import evaluate_dataset
+
     from harness.provenance import report
     from sklearn_hardness.datasets import make_presses
 
@@ -117,8 +118,8 @@ def main(argv=None):
         lines.append(f"| {seed} | " + " | ".join(cell(table[n]) for n in names)
                      + f" | {margin(table['loading_compliance'])} | {recommended} |")
     scores = {n: np.array([t[n]["balanced_accuracy"] for _, t, _ in rows]) for n in names}
-    lines.append("| mean (sd) | " + " | ".join(f"{scores[n].mean():.2f} ({scores[n].std(ddof=1) if len(rows) > 1 else 0:.2f})"
-                                               for n in names)
+    sd = {n: scores[n].std(ddof=1) if len(rows) > 1 else 0 for n in names}
+    lines.append("| mean (sd) | " + " | ".join(f"{scores[n].mean():.2f} ({sd[n]:.2f})" for n in names)
                  + f" | {scores['loading_compliance'].mean() - scores['peak_change'].mean():+.2f} | |")
     lo, hi = args.firm_force
     lines += ["", f"Across forces: trained on the seed's presses (1-6 N), tested on a fresh draw pushed to "

@@ -46,7 +46,9 @@ on the fold seed, the time and the peak memory.
 import argparse
 import time
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
+from _evaluate_dataset import evaluate_dataset
 from joblib import Parallel, delayed
 from scipy import stats
 from sklearn.linear_model import LogisticRegression
@@ -54,10 +56,8 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import FunctionTransformer
 from sklearn.utils import Bunch
 
-import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.memory import peak_rss_mb
 from harness.provenance import report
-from _evaluate_dataset import evaluate_dataset
 
 N_OBJECTS, PER_OBJECT, CV = 42, 4, 5
 

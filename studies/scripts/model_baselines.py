@@ -14,10 +14,10 @@ otherwise it is left out.
 import argparse
 import time
 
-from sklearn_hardness.experiments import baseline_table, run_model_baselines
-
 import _harness  # noqa: F401 - puts the repository root on sys.path
+
 from harness.memory import peak_rss_mb
+from sklearn_hardness.experiments import baseline_table, run_model_baselines
 
 PAPER = {"convlstm": "42%", "dinov2nn": "38%", "ofnn": "27%"}
 

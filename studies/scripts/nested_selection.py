@@ -37,17 +37,16 @@ from __future__ import annotations
 import argparse
 import time
 import warnings
-from pathlib import Path
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
+from _physiclear import load_development
 from joblib import Memory, Parallel, delayed
 from sklearn.base import BaseEstimator, TransformerMixin, clone
 from sklearn.metrics import balanced_accuracy_score
 from sklearn.model_selection import GridSearchCV, StratifiedGroupKFold
 from sklearn.pipeline import Pipeline
 
-import _harness  # noqa: F401 - puts the repository root on sys.path
-from _physiclear import load_development
 from harness.provenance import report
 from sklearn_hardness.model_selection import corrected_interval
 from sklearn_hardness.models import make_named_pipeline
@@ -167,7 +166,7 @@ def main(argv=None):
     best = max(CANDIDATES, key=lambda n: own[n].mean())
     lines += [f"best single candidate on these outer folds: {best} {own[best].mean():.3f}; the nested figure is "
               f"what choosing by cross-validation is worth on new objects ({nested.mean() - own[best].mean():+.3f})",
-              f"picked per outer fold: " + " ".join(picked),
+              "picked per outer fold: " + " ".join(picked),
               f"first steps computed once per press: {features_s:.0f} s; total {time.perf_counter() - start:.0f} s"]
     report("\n".join(lines), args.out)
 

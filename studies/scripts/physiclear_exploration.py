@@ -32,8 +32,10 @@ import sys
 import time
 import warnings
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import cv2
 import numpy as np
+from _physiclear import load_development
 from joblib import Parallel, delayed
 from scipy.optimize import minimize
 from scipy.special import expit
@@ -47,8 +49,6 @@ from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
-import _harness  # noqa: F401 - puts the repository root on sys.path
-from _physiclear import load_development
 from harness.provenance import report
 from sklearn_hardness.features import ContactGeometryFeatures, ContactProfileFeatures
 from sklearn_hardness.features._loading_moments import loading_moments  # the features' own moments
@@ -364,7 +364,8 @@ def main(argv=None):
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
     data = load_development(args.data)
-    split = np.asarray(getattr(data, "split", None) if getattr(data, "split", None) is not None else [""] * len(data.target))
+    split = getattr(data, "split", None)
+    split = np.asarray(split if split is not None else [""] * len(data.target))
     keep = np.flatnonzero(np.isin(split, ["train", "val"]))
     if keep.size == 0:
         raise SystemExit("the data holds no split (train/val/test): pass the public set's folder, not a manifest.")

@@ -25,8 +25,8 @@ from sklearn.metrics import accuracy_score
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _harness  # noqa: E402,F401 - puts the repository root on sys.path
-from harness.memory import peak_rss_mb, reset_peak  # noqa: E402
 
+from harness.memory import peak_rss_mb, reset_peak  # noqa: E402
 from sklearn_hardness.datasets import make_presses  # noqa: E402
 from sklearn_hardness.features import OpticalFlowFeatures  # noqa: E402
 from sklearn_hardness.models import (  # noqa: E402

@@ -32,17 +32,21 @@ import hashlib
 import sys
 import time
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
+from _physiclear import load_development
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.preprocessing import StandardScaler
 
-import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.provenance import header
-from _physiclear import load_development
 from sklearn_hardness.features import ContactGeometryFeatures, ContactProfileFeatures
 from sklearn_hardness.model_selection import evaluate_pipelines
-from sklearn_hardness.models import (ContactProfileNNClassifier, LaplaceLogisticRegression, MCDropoutPipeline,
-                                     make_contact_profile_pipeline)
+from sklearn_hardness.models import (
+    ContactProfileNNClassifier,
+    LaplaceLogisticRegression,
+    MCDropoutPipeline,
+    make_contact_profile_pipeline,
+)
 
 
 def _feature_names(transformer):

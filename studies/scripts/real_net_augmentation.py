@@ -23,10 +23,10 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import _harness  # noqa: E402,F401 - puts the repository root on sys.path
-from harness.provenance import report  # noqa: E402
 from _evaluate_dataset import evaluate_dataset  # noqa: E402
 from _physiclear import load_development  # noqa: E402
 
+from harness.provenance import report  # noqa: E402
 from sklearn_hardness.models import make_named_pipeline  # noqa: E402
 
 

@@ -22,13 +22,13 @@ peak memory. ``--out`` also writes the output after a provenance line.
 import argparse
 import time
 
-import numpy as np
-
 import _harness  # noqa: F401 - puts the repository root on sys.path
+import numpy as np
+from _evaluate_dataset import evaluate_dataset
+from sim_vs_real_stats import parse_param
+
 from harness.memory import peak_rss_mb
 from harness.provenance import report
-from sim_vs_real_stats import parse_param
-from _evaluate_dataset import evaluate_dataset
 from sklearn_hardness.datasets import make_presses
 
 

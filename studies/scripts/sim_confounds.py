@@ -41,14 +41,15 @@ import argparse
 import sys
 import time
 
-import numpy as np
-
 import _harness  # noqa: F401 - puts the repository root on sys.path
-from harness.memory import peak_rss_mb
-from harness.provenance import report
+import numpy as np
 from _evaluate_dataset import evaluate_dataset
 from _sim_variants import VARIANTS
+
+from harness.memory import peak_rss_mb
+from harness.provenance import report
 from sklearn_hardness.datasets import make_presses
+
 
 def recall_per_rank(confusion):
     """``"0.72 / 0.46 / 0.54"``: the recall of each class (row) of a confusion matrix, in its order."""

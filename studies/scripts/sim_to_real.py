@@ -41,14 +41,14 @@ import time
 from collections import Counter
 from pathlib import Path
 
-import numpy as np
-
-from _estimate_modulus import FAMILIES, GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
 import _harness  # noqa: F401 - puts the repository root on sys.path
-from harness.memory import peak_rss_mb, reset_peak
-from harness.provenance import write_output
+import numpy as np
+from _estimate_modulus import FAMILIES, GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
 from _sim_variants import VARIANTS, variant_params
 from sim_vs_real_stats import parse_param
+
+from harness.memory import peak_rss_mb, reset_peak
+from harness.provenance import write_output
 
 
 def simulated(seed, stride=2, cache=None, **params):

@@ -45,12 +45,12 @@ import time
 import warnings
 from collections import Counter
 
-import numpy as np
-
 import _harness  # noqa: F401 - puts the repository root on sys.path
+import numpy as np
+from _sim_variants import VARIANTS, variant_params
+
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import write_output
-from _sim_variants import VARIANTS, variant_params
 
 #: Held-out real GelSight Mini presses (real_presses_stats.md), median per rank.
 REAL_MINI = {
@@ -283,6 +283,7 @@ def main():
 
     if args.manifest:
         from sklearn_hardness.datasets import load_press_videos
+
         # private: load_press_videos' own report of every unreadable video in one error
         from sklearn_hardness.datasets._lazy import UnreadableVideosError, raise_unreadable
 

@@ -40,17 +40,18 @@ import time
 import warnings
 from pathlib import Path
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
+from _estimate_modulus import GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
 from joblib import Parallel, delayed, effective_n_jobs
 from scipy import stats
-from sklearn.metrics import balanced_accuracy_score
-
-from _estimate_modulus import GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
-import _harness  # noqa: F401 - puts the repository root on sys.path
-from harness.memory import peak_rss_mb, reset_peak
-from harness.provenance import report
 from sim_to_real import named_pipeline
 from sim_vs_real_stats import parse_param
+from sklearn.metrics import balanced_accuracy_score
+
+from harness.memory import peak_rss_mb, reset_peak
+from harness.provenance import report
+
 # private: --set parsed as the command line parses it; the per-press prefixes, run once per set and cached
 from sklearn_hardness._cli._common import _parse_set, _UsageError
 from sklearn_hardness.model_selection._per_press import prefix_key, split_per_press, transform_per_press
@@ -69,7 +70,8 @@ def press_rows(prefix, videos, n_jobs, path=None):
 
 
 def simulated_rows(seeds, prefixes, params, n_jobs, cache):
-    """Per seed: (target, hardness, {pipeline: rows}, objects); each prefix runs once per set, shared by equal prefixes."""
+    """Per seed: (target, hardness, {pipeline: rows}, objects); each prefix runs once per set, shared by equal
+    prefixes."""
     from sklearn_hardness.datasets import make_presses
 
     tag = "_".join(f"{k}={v}" for k, v in sorted(params.items())).replace(" ", "")
@@ -199,11 +201,13 @@ def main(argv=None):
     n_workers = effective_n_jobs(args.n_jobs)
     threads = max(1, (os.cpu_count() or 1) // n_workers)
     by = {}
-    for name, net_seed, size, scores, pairs, seconds, rss in Parallel(n_jobs=args.n_jobs, return_as="generator_unordered")(
-            delayed(fit_and_score)(*job, threads) for job in jobs):
+    fits = Parallel(n_jobs=args.n_jobs, return_as="generator_unordered")(
+        delayed(fit_and_score)(*job, threads) for job in jobs)
+    for name, net_seed, size, scores, pairs, seconds, rss in fits:
         # one line per fit as it ends, so that a run stopped early keeps what it measured
         print(f"{name} k={size} seed {net_seed}: balanced accuracy per test set "
-              f"{', '.join(f'{v:.3f}' for v in scores)}; Wedge pairs {pairs}; {seconds:.0f} s", file=sys.stderr, flush=True)
+              f"{', '.join(f'{v:.3f}' for v in scores)}; Wedge pairs {pairs}; {seconds:.0f} s",
+              file=sys.stderr, flush=True)
         by.setdefault((name, size), []).append((scores, pairs, seconds, rss))
 
     sizes = sorted(args.sizes)

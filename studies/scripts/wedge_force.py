@@ -49,10 +49,10 @@ import argparse
 import time
 import warnings
 
-import numpy as np
-
-from _estimate_modulus import FAMILIES, expected_rank, family_pairs, load_grasp_forces
 import _harness  # noqa: F401 - puts the repository root on sys.path
+import numpy as np
+from _estimate_modulus import FAMILIES, expected_rank, family_pairs, load_grasp_forces
+
 from harness.provenance import report
 
 
@@ -180,7 +180,8 @@ def main(argv=None):
         r = fig[names == m]
 
         def cell(col, digits=1):
-            return f"{np.nanmean(r[:, col]):.{digits}f} [{np.nanmin(r[:, col]):.{digits}f}, {np.nanmax(r[:, col]):.{digits}f}]"
+            lo, mid, hi = np.nanmin(r[:, col]), np.nanmean(r[:, col]), np.nanmax(r[:, col])
+            return f"{mid:.{digits}f} [{lo:.{digits}f}, {hi:.{digits}f}]"
 
         lines.append(f"| {m} | {len(r)} | {cell(2)} | {cell(3)} | {cell(0, 2)} | {cell(1, 2)} |")
     lines += ["", "Within-family pairs ordered right (of 9: balls 6, foam bricks 3)", "",
