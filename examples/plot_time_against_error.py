@@ -28,7 +28,8 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.models import ConvLSTMClassifier, peak_contact_change
+from sklearn_hardness.features import PeakContactChange
+from sklearn_hardness.models import ConvLSTMClassifier
 from sklearn_hardness.preprocessing import ContactFrameSelector
 
 # One torch thread: timings that do not depend on what else runs on the machine
@@ -59,7 +60,7 @@ for size in [(6, 8), (12, 16), (24, 32)]:
 # -----------------------
 # The peak change of each press to its first frame, and a logistic
 # regression: what a scalar alone achieves on the same split.
-peak = peak_contact_change(data.videos)
+peak = PeakContactChange().fit_transform(data.videos)
 t0 = time.perf_counter()
 baseline = make_pipeline(StandardScaler(), LogisticRegression()).fit(peak[train], y[train])
 base_seconds = time.perf_counter() - t0

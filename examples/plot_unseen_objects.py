@@ -44,6 +44,15 @@ result = evaluate_pipelines(["contact_profile"], data.videos, data.target, group
 print(format_evaluation(result))
 
 # %%
+# ``result.cv_results_`` holds one entry per pipeline and fold, as
+# scikit-learn's ``cross_validate`` gives them for one estimator: a table for
+# pandas, from which the summary above is derived.
+import pandas as pd
+
+folds = pd.DataFrame(result.cv_results_)
+print(folds.pivot(index="split", columns="pipeline", values="test_balanced_accuracy").round(2))
+
+# %%
 # The table gives each pipeline's balanced accuracy (chance: 1/3) with its
 # 95% interval over the folds, and its margin over the one number paired by
 # fold. ``recommended`` is None when no margin's interval lies above 0: then
@@ -96,7 +105,7 @@ def evaluate(roi):
 
 whole, on_gel = evaluate(None), evaluate(gel)
 for name, res in [("whole frame", whole), ("roi on the gel", on_gel)]:
-    print(name, {row["pipeline"]: round(row["balanced_accuracy"], 2) for row in res.table})
+    print(name, dict(zip(res.summary["pipeline"], np.round(res.summary["balanced_accuracy"], 2).tolist())))
 
 # %%
 # On the gel both pipelines score as on the plain presses above; on the

@@ -192,23 +192,24 @@ def make_named_pipeline(name, *, random_state=None, memory=None, **params):
         Seeds the nets' initial weights, shuffling and dropout. Ignored by the
         pipelines with nothing random to seed (``pipeline_info(name).random``
         is False).
-    memory : str, path-like, joblib.Memory or None, default=None
-        Cache the features of each press, so that a cross-validation, a
-        grid search or a later run that meets a press again reads its row
-        instead of reading the video and extracting the features again. The
-        per-press feature steps take it (``ContactGeometryFeatures``,
-        ``ContactProfileFeatures``, ``ImprintTextureFeatures`` and the
-        one-number peak change: every step with a ``memory`` parameter, or
-        a :class:`~sklearn.preprocessing.FunctionTransformer` whose function
-        takes one): each caches a press's row keyed by its parameters and
-        the press, a video of a lazy sequence by its file or seed (a hit
-        decodes no video), a video in memory by a hash of its frames. So the
-        folds of any :func:`~sklearn.model_selection.cross_val_score` share
-        the rows of the presses they have in common. A pipeline without
-        such a step (the nets, on selected frames) gets it as the
-        :class:`~sklearn.pipeline.Pipeline`'s ``memory``, which caches a
-        fitted step per training set (a grid search over the classifier's
-        parameters reuses it; folds do not).
+    memory : None, str or object with the joblib.Memory interface, default=None
+        Cache the rows of each press: every per-press step of the pipeline
+        (those marked by :class:`~sklearn_hardness.utils.PerPressTransformerMixin`:
+        frame selection, optical flow, DINOv2, the contact profile and
+        geometry, texture, the peak change, a robot's loading figures;
+        nested ones too) gets it as its ``memory``, so that the folds of any
+        :func:`~sklearn.model_selection.cross_val_score`, a grid search or a
+        later run that meet a press again read its rows instead of reading
+        the video and computing them again. A press is keyed by the step's
+        parameters, the code that computes rows and the press itself (a
+        video of a lazy sequence by its file or seed, without decoding it;
+        a video in memory by a hash of its frames). Validated as
+        :func:`sklearn.utils.validation.check_memory` validates a
+        :class:`~sklearn.pipeline.Pipeline`'s ``memory``; the
+        :class:`~sklearn.pipeline.Pipeline`'s own ``memory`` stays None.
+        What an entry costs on disk: each step's ``memory`` parameter says
+        (under 1 kB for a row of features; the selected frames of the nets'
+        pipelines 12 kB a press at ``frame_size=(18, 24)``).
     **params
         Passed to the pipeline's builder (its ``make_*_pipeline`` factory),
         e.g. ``roi=`` for the video pipelines, ``max_epochs=`` for a net. The
@@ -251,32 +252,18 @@ def make_named_pipeline(name, *, random_state=None, memory=None, **params):
     if random_state is not None and _REGISTRY[name].info.random:
         params["random_state"] = random_state
     pipe = function(**fixed, **params)
-    if memory is not None and not _cache_per_press(pipe, memory):
-        pipe.set_params(memory=memory)
+    if memory is not None:
+        _cache_per_press(pipe, memory)
     return pipe
 
 
 def _cache_per_press(pipe, memory):
-    """Give ``memory`` to every step of ``pipe`` (nested ones too) that caches per press; whether any took it.
+    """Give ``memory`` to every per-press step of ``pipe``, nested ones too."""
+    from sklearn.utils.validation import check_memory
 
-    A step takes it where it has a ``memory`` parameter and is not itself a
-    pipeline (whose ``memory`` caches whole fitted steps), or is a
-    ``FunctionTransformer`` whose function has a ``memory`` argument (through
-    ``kw_args``).
-    """
-    import inspect
+    from .utils._per_press import PerPressTransformerMixin
 
-    from sklearn.pipeline import Pipeline
-    from sklearn.preprocessing import FunctionTransformer
-
-    took = False
+    check_memory(memory)  # the error a step would raise at fit, now
     for path, step in pipe.get_params(deep=True).items():
-        if isinstance(step, FunctionTransformer):
-            if step.func is not None and "memory" in inspect.signature(step.func).parameters:
-                pipe.set_params(**{f"{path}__kw_args": {**(step.kw_args or {}), "memory": memory}})
-                took = True
-        elif hasattr(step, "get_params") and not isinstance(step, Pipeline) \
-                and "memory" in step.get_params(deep=False):
+        if isinstance(step, PerPressTransformerMixin):
             pipe.set_params(**{f"{path}__memory": memory})
-            took = True
-    return took

@@ -164,7 +164,7 @@ def test_names_offered_by_the_parser_are_the_library_s():
     from sklearn_hardness._cli._common import _SIM_PRESETS
     from sklearn_hardness.datasets._sim_presets import PRESETS
     from sklearn_hardness.experiments._models import MODEL_NAMES, make_estimator
-    from sklearn_hardness.model_selection._evaluate import evaluate_pipelines
+    from sklearn_hardness.model_selection import evaluate_pipelines
     from sklearn_hardness.models import make_named_pipeline
 
     def choices(command, dest):

@@ -52,6 +52,7 @@ from sklearn_hardness.features import (
     ImprintTextureFeatures,
     LoadingCompliance,
     OpticalFlowFeatures,
+    PeakContactChange,
 )
 from sklearn_hardness.models import (
     ContactProfileNNClassifier,
@@ -99,6 +100,7 @@ ESTIMATORS = {
     "ContactGeometryFeatures": (lambda: ContactGeometryFeatures(max_side=40), "videos"),
     "ImprintTextureFeatures": (lambda: ImprintTextureFeatures(max_side=40), "videos"),
     "LoadingCompliance": (LoadingCompliance, "force_position"),
+    "PeakContactChange": (PeakContactChange, "videos"),
     "OFNNClassifier": (_ofnn, "table"),
     "DINOv2NNClassifier": (
         lambda: DINOv2NNClassifier(hidden_units=16, lr=3e-2, max_epochs=5, batch_size=64, random_state=0),

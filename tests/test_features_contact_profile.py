@@ -8,9 +8,8 @@ from sklearn.model_selection import cross_val_score
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
-from sklearn_hardness.features import ContactProfileFeatures
+from sklearn_hardness.features import ContactProfileFeatures, PeakContactChange
 from sklearn_hardness.model_selection import evaluate_pipelines
-from sklearn_hardness.models import peak_contact_change
 from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 from ._synthetic import FRAMED_GEL, framed_press, growing_disc_press, synthetic_press
@@ -99,7 +98,7 @@ def test_separates_what_the_peak_change_cannot():
     head = make_pipeline(StandardScaler(), LogisticRegression())
     F = ContactProfileFeatures().fit_transform(X)
     assert cross_val_score(head, F, y, cv=3).mean() >= 0.9
-    assert cross_val_score(head, peak_contact_change(X), y, cv=3).mean() <= 0.75
+    assert cross_val_score(head, PeakContactChange().fit_transform(X), y, cv=3).mean() <= 0.75
 
 
 def test_roi_reads_the_gel_only():
@@ -160,8 +159,8 @@ def test_contact_profile_pipeline_in_evaluate():
                      codec=None, random_state=0)
     result = evaluate_pipelines(["contact_profile"], d.videos, d.target, groups=d.object_id, cv=3,
                                 target_names=d.target_names, hardness=d.hardness, error_score="raise", random_state=0)
-    assert [r["pipeline"] for r in result.table] == ["peak_change", "contact_profile"]
-    assert np.isfinite(result.table[1]["balanced_accuracy"])
+    assert result.pipelines == ["peak_change", "contact_profile"]
+    assert np.isfinite(result.summary["balanced_accuracy"][1])
 
 
 def test_features_pick_and_order_the_columns_of_the_twelve():

@@ -15,6 +15,7 @@ from sklearn_hardness._cli import main
 from sklearn_hardness._registry import PIPELINE_NAMES, make_named_pipeline, pipeline_info
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.experiments import run_model_baselines
+from sklearn_hardness.features import PeakContactChange
 from sklearn_hardness.model_selection import (
     ConfusionMatricesDisplay,
     EvaluationResult,
@@ -22,8 +23,9 @@ from sklearn_hardness.model_selection import (
     evaluate_pipelines,
     format_evaluation,
 )
-from sklearn_hardness.model_selection._evaluate import _takes_force_position
-from sklearn_hardness.models import make_contact_profile_pipeline, make_peak_change_baseline, peak_contact_change
+from sklearn_hardness.model_selection._per_press import first_input
+from sklearn_hardness.model_selection._report import fold_scores
+from sklearn_hardness.models import make_contact_profile_pipeline, make_peak_change_baseline
 from sklearn_hardness.utils._force_position import force_position, presses_lacking_force_position
 
 
@@ -38,7 +40,7 @@ def _run(data, pipelines=None, *, baseline=True, roi=None, random_state=0, error
             return {"roi": roi} if roi is not None and pipeline_info(name).input == "video" else {}
 
         pipelines = {name: make_named_pipeline(name, random_state=random_state, **video(name)) for name in pipelines}
-    reads = [n for n, e in pipelines.items() if _takes_force_position(e)]
+    reads = [n for n, e in pipelines.items() if first_input(e) == "force_position"]
     groups = getattr(data, "object_id", None)
     return evaluate_pipelines(
         pipelines, data.videos, data.target, groups=groups,
@@ -46,6 +48,31 @@ def _run(data, pipelines=None, *, baseline=True, roi=None, random_state=0, error
         target_names=data.target_names, hardness=getattr(data, "hardness", None),
         force_position=force_position(data, reads) if reads else None, random_state=random_state,
         error_score=error_score, verbose=verbose, **kwargs)
+
+
+def _scores(result, name, score="balanced_accuracy"):
+    """The fold scores of ``name`` in the folds' order."""
+    return fold_scores(result.cv_results_, name, score)
+
+
+def _rows(result):
+    """The summary's rows by pipeline name, each a dict of its columns."""
+    summary = result.summary
+    return {name: {key: values[i] for key, values in summary.items()} for i, name in enumerate(summary["pipeline"])}
+
+
+def _folds(result):
+    """The test indices of every fold, in the folds' order (the first pipeline's rows: every pipeline has them)."""
+    cv = result.cv_results_
+    return list(cv["test_indices"][cv["pipeline"] == result.pipelines[0]])
+
+
+def _oof(result, name):
+    return result.out_of_fold_predictions(name)
+
+
+def _peak(videos, roi=None):
+    return PeakContactChange(roi=roi).fit_transform(videos)
 
 
 @pytest.fixture(scope="module")
@@ -61,19 +88,20 @@ class _Fails(BaseEstimator, ClassifierMixin):
 
 def test_folds_are_object_disjoint_and_table_is_complete(tiny):
     result = _run(tiny, {"dummy": DummyClassifier(strategy="most_frequent")}, cv=3)
-    assert [r["pipeline"] for r in result.table] == ["peak_change", "dummy"]
-    tests = np.concatenate(result.folds)
+    assert result.pipelines == ["peak_change", "dummy"]
+    tests = np.concatenate(_folds(result))
     assert np.array_equal(np.sort(tests), np.arange(len(tiny.target)))  # every press tested once
-    for test in result.folds:
-        train = np.setdiff1d(np.arange(len(tiny.target)), test)
+    cv = result.cv_results_
+    for train, test in zip(cv["train_indices"], cv["test_indices"]):
         assert not set(tiny.object_id[test]) & set(tiny.object_id[train])
-    for row in result.table:
-        lo, hi = row["balanced_accuracy_ci"]
-        assert lo <= row["balanced_accuracy"] <= hi and row["n_folds"] == 3
-        assert row["mae"] is not None and row["fit_predict_seconds"] > 0
-        assert result.confusion[row["pipeline"]].sum() == len(tiny.target)
+        assert np.array_equal(np.sort(np.concatenate([train, test])), np.arange(len(tiny.target)))
+    assert np.all(cv["fit_time"] > 0) and np.all(cv["score_time"] > 0)
+    for name, row in _rows(result).items():
+        assert row["balanced_accuracy_low"] <= row["balanced_accuracy"] <= row["balanced_accuracy_high"]
+        assert np.isfinite(row["neg_hardness_mae"]) and row["time"] > 0
+        assert result.confusion_matrix(name).sum() == len(tiny.target)
     # a constant prediction scores chance exactly on every fold
-    np.testing.assert_allclose(result.fold_scores["dummy"], 1 / 3)
+    np.testing.assert_allclose(_scores(result, "dummy"), 1 / 3)
     text = format_evaluation(result)
     assert "object-disjoint 3-fold CV, 12 objects" in text and "dummy" in text
 
@@ -102,14 +130,15 @@ def test_recommendation_names_the_best_pipeline_above_the_baseline(tiny):
     pipes = {"dummy": DummyClassifier(strategy="most_frequent"), "oracle": _KnowsTheLabels(labels)}
     # 4 folds: with 3 folds of 12 objects the corrected interval of even a perfect pipeline holds 0
     result = _run(tiny, pipes, cv=4, verbose=0)
-    rows = {r["pipeline"]: r for r in result.table}
-    base = result.fold_scores["peak_change"]
+    rows = _rows(result)
+    base = _scores(result, "peak_change")
     for name in ("dummy", "oracle"):  # paired over the same folds
-        assert rows[name]["vs_baseline"] == pytest.approx(np.mean(result.fold_scores[name] - base))
-        lo, hi = rows[name]["vs_baseline_ci"]
-        assert lo <= rows[name]["vs_baseline"] <= hi
-    assert rows["peak_change"]["vs_baseline"] is None
-    assert rows["oracle"]["balanced_accuracy"] == 1.0 and rows["oracle"]["vs_baseline_ci"][0] > 0
+        margin = rows[name]["balanced_accuracy_vs_baseline"]
+        assert margin == pytest.approx(np.mean(_scores(result, name) - base))
+        assert rows[name]["balanced_accuracy_vs_baseline_low"] <= margin <= rows[name][
+            "balanced_accuracy_vs_baseline_high"]
+    assert np.isnan(rows["peak_change"]["balanced_accuracy_vs_baseline"])
+    assert rows["oracle"]["balanced_accuracy"] == 1.0 and rows["oracle"]["balanced_accuracy_vs_baseline_low"] > 0
     assert result.recommended == "oracle" and result.recommended_with_samples is None
     text = format_evaluation(result)
     assert "Choose oracle" in text and "No pipeline above the baseline has predict_proba_samples" in text
@@ -117,7 +146,7 @@ def test_recommendation_names_the_best_pipeline_above_the_baseline(tiny):
     pipes["oracle"] = _KnowsTheLabelsWithSamples(labels)
     result = _run(tiny, pipes, cv=4, verbose=0)
     assert result.recommended == result.recommended_with_samples == "oracle"
-    assert {r["pipeline"]: r["predict_proba_samples"] for r in result.table} == {
+    assert dict(zip(result.summary["pipeline"], result.summary["predict_proba_samples"])) == {
         "peak_change": False, "dummy": False, "oracle": True}
     # nothing above the baseline: no recommendation, and the text says the one number does as well
     result = _run(tiny, {"dummy": DummyClassifier(strategy="most_frequent")}, cv=3, verbose=0)
@@ -125,7 +154,7 @@ def test_recommendation_names_the_best_pipeline_above_the_baseline(tiny):
     assert "No pipeline is above the one-number baseline" in format_evaluation(result)
     # without the baseline, no comparison and no recommendation line
     result = _run(tiny, {"dummy": DummyClassifier()}, cv=3, baseline=False, verbose=0)
-    assert result.table[0]["vs_baseline"] is None and result.recommended is None
+    assert np.isnan(result.summary["balanced_accuracy_vs_baseline"][0]) and result.recommended is None
     assert "Choose" not in format_evaluation(result) and "vs peak:" not in format_evaluation(result)
 
 
@@ -136,18 +165,20 @@ def test_margin_interval_is_corrected_for_overlapping_training_sets(tiny):
     pipes = {"dummy": DummyClassifier(strategy="stratified", random_state=0), "oracle": _KnowsTheLabels(labels)}
     result = _run(tiny, pipes, cv=3, verbose=0)
     n = len(tiny.target)
-    ratio = np.mean([len(test) / (n - len(test)) for test in result.folds])
-    for row in result.table[1:]:
-        diff = result.fold_scores[row["pipeline"]] - result.fold_scores["peak_change"]
+    ratio = np.mean([len(test) / (n - len(test)) for test in _folds(result)])
+    rows = _rows(result)
+    for name in ("dummy", "oracle"):
+        row = rows[name]
+        diff = _scores(result, name) - _scores(result, "peak_change")
         t = stats.t.ppf(0.975, len(diff) - 1)
         half = t * np.sqrt(diff.var(ddof=1) * (1 / len(diff) + ratio))
-        assert row["vs_baseline_ci"] == pytest.approx((max(diff.mean() - half, -1), min(diff.mean() + half, 1)))
+        interval = (row["balanced_accuracy_vs_baseline_low"], row["balanced_accuracy_vs_baseline_high"])
+        assert interval == pytest.approx((max(diff.mean() - half, -1), min(diff.mean() + half, 1)))
         plain = t * diff.std(ddof=1) / np.sqrt(len(diff))
         assert half > plain * 1.5  # 3 folds: sqrt(1 + 3 * 0.5) = 1.58
         # the public function gives the table's interval
-        assert corrected_interval(result.fold_scores[row["pipeline"]], ratio,
-                                  baseline=result.fold_scores["peak_change"],
-                                  bounds=(-1, 1)) == (row["vs_baseline"], row["vs_baseline_ci"])
+        assert corrected_interval(_scores(result, name), ratio, baseline=_scores(result, "peak_change"),
+                                  bounds=(-1, 1)) == (row["balanced_accuracy_vs_baseline"], interval)
 
 
 def test_corrected_interval_of_scores_and_of_paired_differences():
@@ -170,10 +201,12 @@ def test_repeated_folds_reuse_the_objects_in_other_assignments(tiny):
     once = _run(tiny, pipes, cv=3, verbose=0)
     result = _run(tiny, pipes, cv=3, n_repeats=3, verbose=0)
     n = len(tiny.target)
-    assert result.n_repeats == 3 and len(result.folds) == 9
+    folds = _folds(result)
+    assert result.n_repeats == 3 and result.n_splits == 3 and len(folds) == 9
+    assert result.cv_results_["repeat"].tolist() == [0, 0, 0, 1, 1, 1, 2, 2, 2] * 2
     assignments = []
     for r in range(3):
-        tests = result.folds[3 * r: 3 * r + 3]
+        tests = folds[3 * r: 3 * r + 3]
         assert np.array_equal(np.sort(np.concatenate(tests)), np.arange(n))  # each repetition tests every press once
         for test in tests:
             train = np.setdiff1d(np.arange(n), test)
@@ -181,32 +214,29 @@ def test_repeated_folds_reuse_the_objects_in_other_assignments(tiny):
         assignments.append({frozenset(tiny.object_id[test]) for test in tests})
     assert len({frozenset(a) for a in assignments}) > 1  # the repetitions assign objects differently
     # the first repetition is the single run: same folds, scores and out-of-fold predictions
-    for a, b in zip(once.folds, result.folds[:3]):
+    for a, b in zip(_folds(once), folds[:3]):
         np.testing.assert_array_equal(a, b)
     for name in ("peak_change", "dummy"):
-        np.testing.assert_array_equal(result.fold_scores[name][:3], once.fold_scores[name])
-        np.testing.assert_array_equal(result.predictions[name], once.predictions[name])
-        assert result.fold_scores[name].shape == result.object_fold_scores[name].shape == (9,)
-        np.testing.assert_array_equal(result.object_fold_scores[name][:3], once.object_fold_scores[name])
-        assert result.confusion[name].sum() == 3 * n  # every press once per repetition
-    rows = {r["pipeline"]: r for r in result.table}
-    assert rows["dummy"]["n_folds"] == 3 and rows["dummy"]["n_repeats"] == 3
+        np.testing.assert_array_equal(_scores(result, name)[:3], _scores(once, name))
+        np.testing.assert_array_equal(_oof(result, name), _oof(once, name))
+        assert _scores(result, name).shape == _scores(result, name, "object_balanced_accuracy").shape == (9,)
+        np.testing.assert_array_equal(_scores(result, name, "object_balanced_accuracy")[:3],
+                                      _scores(once, name, "object_balanced_accuracy"))
+        assert result.confusion_matrix(name).sum() == 3 * n  # every press once per repetition
+    rows = _rows(result)
     # every interval runs over the 9 fold scores with the corrected variance, and keeps the 2 degrees of
     # freedom of one repetition's 3 folds: the repetitions reuse the objects (with 8, equal pipelines were
     # recommended 1.5x as often as promised, studies/scripts/margin_interval.py --n-repeats 5)
-    ratio = np.mean([len(test) / (n - len(test)) for test in result.folds])
+    ratio = np.mean([len(test) / (n - len(test)) for test in folds])
     t = stats.t.ppf(0.975, 2)
-    for values, bound, (m, (lo, hi)) in [  # bound: each interval is clipped to its score's range
-        (result.fold_scores["dummy"], 0,
-         (rows["dummy"]["balanced_accuracy"], rows["dummy"]["balanced_accuracy_ci"])),
-        (result.fold_scores["dummy"] - result.fold_scores["peak_change"], -1,
-         (rows["dummy"]["vs_baseline"], rows["dummy"]["vs_baseline_ci"])),
-        (result.object_fold_scores["dummy"], 0,
-         (rows["dummy"]["object_balanced_accuracy"], rows["dummy"]["object_balanced_accuracy_ci"])),
+    for values, bound, key in [  # bound: each interval is clipped to its score's range
+        (_scores(result, "dummy"), 0, "balanced_accuracy"),
+        (_scores(result, "dummy") - _scores(result, "peak_change"), -1, "balanced_accuracy_vs_baseline"),
+        (_scores(result, "dummy", "object_balanced_accuracy"), 0, "object_balanced_accuracy"),
     ]:
         half = t * np.sqrt(values.var(ddof=1) * (1 / 9 + ratio))
-        assert (m, lo, hi) == pytest.approx((values.mean(), max(values.mean() - half, bound),
-                                             min(values.mean() + half, 1)))
+        got = (rows["dummy"][key], rows["dummy"][f"{key}_low"], rows["dummy"][f"{key}_high"])
+        assert got == pytest.approx((values.mean(), max(values.mean() - half, bound), min(values.mean() + half, 1)))
     assert "object-disjoint 3-fold CV x 3 repetitions, 12 objects" in format_evaluation(result)
     with pytest.raises(ValueError, match="n_repeats"):  # InvalidParameterError
         _run(tiny, [], cv=3, n_repeats=0)
@@ -214,15 +244,14 @@ def test_repeated_folds_reuse_the_objects_in_other_assignments(tiny):
 
 def test_accuracy_interval_is_corrected_too(tiny):
     # the interval of the mean balanced accuracy has the same overlapping training sets as the margin's
-    result = _run(tiny, {"dummy": DummyClassifier(strategy="stratified", random_state=0)},
-                                cv=3, verbose=0)
+    result = _run(tiny, {"dummy": DummyClassifier(strategy="stratified", random_state=0)}, cv=3, verbose=0)
     n = len(tiny.target)
-    ratio = np.mean([len(test) / (n - len(test)) for test in result.folds])
-    for row in result.table:
-        scores = result.fold_scores[row["pipeline"]]
+    ratio = np.mean([len(test) / (n - len(test)) for test in _folds(result)])
+    for name, row in _rows(result).items():
+        scores = _scores(result, name)
         half = stats.t.ppf(0.975, 2) * np.sqrt(scores.var(ddof=1) * (1 / 3 + ratio))
-        assert row["balanced_accuracy_ci"] == pytest.approx((max(scores.mean() - half, 0),
-                                                             min(scores.mean() + half, 1)))
+        assert (row["balanced_accuracy_low"], row["balanced_accuracy_high"]) == pytest.approx(
+            (max(scores.mean() - half, 0), min(scores.mean() + half, 1)))
 
 
 class _KnowsTheLabelsButOneObject(_KnowsTheLabels):
@@ -244,36 +273,36 @@ def test_intervals_are_clipped_to_the_range_of_the_score(tiny):
     first = tiny.object_id[0]
     wrong = {np.asarray(v).tobytes() for v, o in zip(tiny.videos, tiny.object_id) if o == first}
     result = _run(tiny, {"almost": _KnowsTheLabelsButOneObject(labels, wrong)}, cv=4, verbose=0)
-    row = result.table[1]
-    scores = result.fold_scores["almost"]
+    row = _rows(result)["almost"]
+    scores = _scores(result, "almost")
     assert (scores == 1).sum() == 3 and scores.min() < 1  # perfect on every fold but the one
     half = stats.t.ppf(0.975, 3) * np.sqrt(scores.var(ddof=1) * (1 / 4 + 1 / 3))
     assert scores.mean() + half > 1.1  # unclipped, the interval would reach well past 1
-    assert row["balanced_accuracy_ci"] == pytest.approx((scores.mean() - half, 1.0))
-    assert row["balanced_accuracy_ci"][1] == 1.0
+    assert (row["balanced_accuracy_low"], row["balanced_accuracy_high"]) == pytest.approx((scores.mean() - half, 1.0))
+    assert row["balanced_accuracy_high"] == 1.0
     # 4 folds: the table says in words that they are too few for an interval, rather than print it
     assert "4 folds: too few for an interval" in format_evaluation(result)
     assert f"[{scores.mean() - half:.2f}, 1.00]" not in format_evaluation(result)
-    for r in result.table:  # every interval within the range of its score
-        assert 0 <= r["balanced_accuracy_ci"][0] <= r["balanced_accuracy_ci"][1] <= 1
-        assert 0 <= r["mae_ci"][0]
-        if r["vs_baseline_ci"] is not None:
-            assert -1 <= r["vs_baseline_ci"][0] <= r["vs_baseline_ci"][1] <= 1
+    for r in _rows(result).values():  # every interval within the range of its score
+        assert 0 <= r["balanced_accuracy_low"] <= r["balanced_accuracy_high"] <= 1
+        assert r["neg_hardness_mae_high"] <= 0
+        if np.isfinite(r["balanced_accuracy_vs_baseline"]):
+            assert -1 <= r["balanced_accuracy_vs_baseline_low"] <= r["balanced_accuracy_vs_baseline_high"] <= 1
 
 
 def test_recall_per_class_says_which_ranks_a_pipeline_misses(tiny):
     labels = {np.asarray(v).tobytes(): int(c) for v, c in zip(tiny.videos, tiny.target)}
     pipes = {"dummy": DummyClassifier(strategy="constant", constant=1), "oracle": _KnowsTheLabels(labels)}
     result = _run(tiny, pipes, cv=3, verbose=0)
-    rows = {r["pipeline"]: r for r in result.table}
     names = [str(n) for n in tiny.target_names]
-    assert rows["oracle"]["recall"] == dict.fromkeys(names, 1.0)
-    assert rows["dummy"]["recall"] == {n: float(c == 1) for c, n in enumerate(names)}  # only class 1 found
-    cm = result.confusion["peak_change"]
-    assert list(rows["peak_change"]["recall"].values()) == pytest.approx(np.diag(cm) / cm.sum(axis=1))
+    np.testing.assert_allclose(np.diag(result.confusion_matrix("oracle", normalize="true")), 1.0)
+    np.testing.assert_allclose(np.diag(result.confusion_matrix("dummy", normalize="true")), [0, 1, 0])
     text = format_evaluation(result)
     assert f"recall per class, out of fold ({' / '.join(names)}):" in text
     assert "oracle" in text and "1.00 / 1.00 / 1.00" in text and "0.00 / 1.00 / 0.00" in text
+    cm = result.confusion_matrix("peak_change")
+    recall = " / ".join(f"{v:.2f}" for v in np.diag(cm) / cm.sum(axis=1))
+    assert f"peak_change      {recall}" in text
 
 
 class _SureOnceUnsureOnce(_KnowsTheLabels):
@@ -310,19 +339,19 @@ def test_per_object_figures_class_each_object_by_its_presses_mean_probabilities(
     assert np.bincount(np.unique(tiny.object_id, return_counts=True)[1]).tolist() == [0, 0, 12]
     pipes = {"mean": _SureOnceUnsureOnce(proba), "votes": _SureOnceUnsureOnceVotes(proba)}
     result = _run(tiny, pipes, cv=3, verbose=0)
-    rows = {r["pipeline"]: r for r in result.table}
-    np.testing.assert_allclose(result.fold_scores["mean"], 0.5)
-    np.testing.assert_allclose(result.fold_scores["votes"], 0.5)
-    np.testing.assert_allclose(result.object_fold_scores["mean"], 1.0)
+    rows = _rows(result)
+    np.testing.assert_allclose(_scores(result, "mean"), 0.5)
+    np.testing.assert_allclose(_scores(result, "votes"), 0.5)
+    np.testing.assert_allclose(_scores(result, "mean", "object_balanced_accuracy"), 1.0)
     # without probabilities each object's two votes tie and the lower class wins: right for the objects of
     # classes 0 and 1 (0 against 1, 1 against 2), wrong for those of class 2 (2 against 0)
-    np.testing.assert_allclose(result.object_fold_scores["votes"], 2 / 3)
+    np.testing.assert_allclose(_scores(result, "votes", "object_balanced_accuracy"), 2 / 3)
     assert rows["mean"]["object_balanced_accuracy"] == 1.0 and rows["mean"]["balanced_accuracy"] == 0.5
-    lo, hi = rows["votes"]["object_balanced_accuracy_ci"]
+    lo, hi = rows["votes"]["object_balanced_accuracy_low"], rows["votes"]["object_balanced_accuracy_high"]
     assert rows["votes"]["object_balanced_accuracy"] == pytest.approx(2 / 3) and lo <= 2 / 3 + 1e-12 <= hi + 2e-12
-    base = result.object_fold_scores["peak_change"]
-    assert rows["mean"]["object_vs_baseline"] == pytest.approx(np.mean(1.0 - base))
-    assert rows["peak_change"]["object_vs_baseline"] is None
+    base = _scores(result, "peak_change", "object_balanced_accuracy")
+    assert rows["mean"]["object_balanced_accuracy_vs_baseline"] == pytest.approx(np.mean(1.0 - base))
+    assert np.isnan(rows["peak_change"]["object_balanced_accuracy_vs_baseline"])
     text = format_evaluation(result)
     assert "per object: each test object classed by the mean of its presses' predicted probabilities" in text
     assert "12 objects, median 2 presses each" in text
@@ -335,13 +364,20 @@ def test_per_object_figures_class_each_object_by_its_presses_mean_probabilities(
 
 
 def test_failing_pipeline_is_reported_not_dropped(tiny):
-    with pytest.warns(RuntimeWarning, match="boom"):
+    from sklearn.exceptions import FitFailedWarning
+
+    with pytest.warns(FitFailedWarning, match="(?s)3 fits failed out of a total of 6.*RuntimeError: boom"):
         result = _run(tiny, {"bad": _Fails()}, cv=3, error_score=np.nan)
-    row = result.table[1]
+    row = _rows(result)["bad"]
     assert np.isnan(row["balanced_accuracy"]) and "boom" in row["error"]
+    assert list(result.cv_results_["error"][result.cv_results_["pipeline"] == "bad"]) == ["RuntimeError: boom"] * 3
     assert "error: RuntimeError: boom" in format_evaluation(result)
     with pytest.raises(RuntimeError, match="boom"):
         _run(tiny, {"bad": _Fails()}, cv=3)
+    # a numeric error_score scores the failing folds, as cross_validate does
+    with pytest.warns(FitFailedWarning):
+        result = _run(tiny, {"bad": _Fails()}, cv=3, error_score=0.0)
+    np.testing.assert_array_equal(_scores(result, "bad"), 0.0)
 
 
 class _KnowsTheLabelsOnOneFold(_KnowsTheLabels):
@@ -360,13 +396,16 @@ class _KnowsTheLabelsOnOneFold(_KnowsTheLabels):
 def test_one_fold_does_not_make_a_recommendation(tiny):
     # the oracle fits on the one fold that tests the first press and fails on the others: one fold
     # difference is no evidence, so no interval and no recommendation (before: the point as interval)
+    from sklearn.exceptions import FitFailedWarning
+
     labels = {np.asarray(v).tobytes(): int(c) for v, c in zip(tiny.videos, tiny.target)}
     oracle = _KnowsTheLabelsOnOneFold(labels, np.asarray(tiny.videos[0]).tobytes())
-    with pytest.warns(RuntimeWarning, match="the press is in training"):
+    with pytest.warns(FitFailedWarning, match="the press is in training"):
         result = _run(tiny, {"oracle": oracle}, cv=4, error_score=np.nan, verbose=0)
-    row = result.table[1]
-    assert np.isfinite(result.fold_scores["oracle"]).sum() == 1 and row["vs_baseline"] > 0
-    assert np.isnan(row["vs_baseline_ci"]).all() and np.isnan(row["balanced_accuracy_ci"]).all()
+    row = _rows(result)["oracle"]
+    assert np.isfinite(_scores(result, "oracle")).sum() == 1 and row["balanced_accuracy_vs_baseline"] > 0
+    assert np.isnan([row["balanced_accuracy_vs_baseline_low"], row["balanced_accuracy_vs_baseline_high"],
+                     row["balanced_accuracy_low"], row["balanced_accuracy_high"]]).all()
     assert result.recommended is None
     assert "No pipeline is above the one-number baseline" in format_evaluation(result)
 
@@ -396,26 +435,26 @@ def test_bad_input(tiny):
 
 
 def test_peak_change_baseline_uses_the_contact_signal(tiny):
-    feature = peak_contact_change(tiny.videos)
+    feature = _peak(tiny.videos)
     assert feature.shape == (len(tiny.target), 1) and np.all(np.isfinite(feature))
     still = np.full((5, 16, 16, 3), 90, np.uint8)
     pressed = still.copy()
     pressed[2:, 4:12, 4:12] = 140
-    assert peak_contact_change([pressed])[0, 0] > peak_contact_change([still])[0, 0] + 2
+    assert _peak([pressed])[0, 0] > _peak([still])[0, 0] + 2
     base = make_peak_change_baseline()
     assert base[-1].class_weight == "balanced"
     # on the shuffled feature (no signal) the same pipeline drops to about chance
     rng = np.random.default_rng(0)
-    shuffled = make_pipeline(FunctionTransformer(lambda X: rng.permutation(peak_contact_change(X))),
+    shuffled = make_pipeline(FunctionTransformer(lambda X: rng.permutation(_peak(X))),
                              *[s for _, s in base.steps[1:]])
-    real = _run(tiny, {}, cv=3).table[0]["balanced_accuracy"]
-    noise = _run(tiny, {"shuffled": shuffled}, cv=3, baseline=False).table[0]
-    assert real > noise["balanced_accuracy"]
+    real = _run(tiny, {}, cv=3).summary["balanced_accuracy"][0]
+    noise = _run(tiny, {"shuffled": shuffled}, cv=3, baseline=False).summary["balanced_accuracy"][0]
+    assert real > noise
 
 
 def test_run_model_baselines_grouped_cv(tiny):
     result = run_model_baselines(tiny, models=[("dummy", DummyClassifier())], cv=3)
-    assert [r["pipeline"] for r in result.table] == ["peak_change", "dummy"]
+    assert result.pipelines == ["peak_change", "dummy"]
 
 
 @pytest.mark.slow
@@ -430,10 +469,12 @@ def test_cli_evaluate_on_a_manifest(tmp_path, capsys, monkeypatch):
     assert "object-disjoint 3-fold CV, 42 objects, 42 presses" in text and "peak_change" in text
     assert (out / "confusion_matrices.png").stat().st_size > 1000
     saved = json.loads((out / "evaluation.json").read_text())
-    assert saved["target_names"] == ["hard", "moderate", "soft"] and len(saved["fold_scores"]["peak_change"]) == 3
+    cv = saved["cv_results"]
+    assert saved["target_names"] == ["hard", "moderate", "soft"] and cv["pipeline"] == ["peak_change"] * 3
     assert saved["recommended"] is None and saved["recommended_with_samples"] is None  # the baseline alone
     # one press per object: the figures per object are those per press, and the table leaves them out
-    assert saved["object_fold_scores"] == saved["fold_scores"] and "per object" not in text
+    assert cv["test_object_balanced_accuracy"] == cv["test_balanced_accuracy"] and "per object" not in text
+    assert saved["summary"]["pipeline"] == ["peak_change"] and len(cv["test_indices"]) == 3
     # the saved table says what made it: the command less --out, the version, the date, the platform
     from sklearn_hardness import __version__
     from sklearn_hardness._cli._header import read_header
@@ -447,7 +488,7 @@ def test_cli_evaluate_on_a_manifest(tmp_path, capsys, monkeypatch):
                  "--out", str(tmp_path / "repeated")]) == 0
     assert "object-disjoint 3-fold CV x 2 repetitions" in capsys.readouterr().out
     saved = json.loads((tmp_path / "repeated" / "evaluation.json").read_text())
-    assert saved["n_repeats"] == 2 and len(saved["fold_scores"]["peak_change"]) == 6
+    assert saved["n_repeats"] == 2 and len(saved["cv_results"]["test_balanced_accuracy"]) == 6
     with pytest.raises(SystemExit, match="2"):
         main(["evaluate", str(root / "manifest.csv"), "--pipelines", "--n-repeats", "0"])
     assert "--n-repeats" in capsys.readouterr().err
@@ -462,7 +503,7 @@ def test_cli_evaluate_on_a_manifest(tmp_path, capsys, monkeypatch):
 
 def test_named_nets_are_seeded_by_random_state():
     """A run by name repeats exactly: the nets take the evaluation's seed."""
-    from sklearn_hardness.model_selection._evaluate import _named_estimators
+    from sklearn_hardness.model_selection._validation import _named_estimators
 
     named, base = _named_estimators(["ofnn_quantiles", "convlstm_intensity"], "peak_change", 3, None)
     assert base == "peak_change" and list(named) == ["peak_change", "ofnn_quantiles", "convlstm_intensity"]
@@ -475,21 +516,18 @@ def test_named_nets_are_seeded_by_random_state():
 def test_a_run_by_name_repeats_exactly(tiny):
     a = _run(tiny, pipelines=["ofnn"], cv=3, random_state=1)
     b = _run(tiny, pipelines=["ofnn"], cv=3, random_state=1)
-    np.testing.assert_array_equal(a.predictions["ofnn"], b.predictions["ofnn"])
+    np.testing.assert_array_equal(_oof(a, "ofnn"), _oof(b, "ofnn"))
 
 
 def test_contact_profile_3_is_the_factory_with_three_features(tiny):
     """The name runs what a user builds with ``features=`` (the same folds, predictions and scores)."""
-    from sklearn_hardness.models import make_contact_profile_pipeline
-
     three = ["log_peak_change", "log_loading_time", "log_contact_spread"]
     named = _run(tiny, pipelines=["contact_profile_3", "contact_profile"], cv=3, verbose=0)
-    built = _run(tiny, {"contact_profile_3": make_contact_profile_pipeline(features=three)}, cv=3,
-                               verbose=0)
-    np.testing.assert_array_equal(named.predictions["contact_profile_3"], built.predictions["contact_profile_3"])
-    assert named.table[1]["balanced_accuracy"] == built.table[1]["balanced_accuracy"]
+    built = _run(tiny, {"contact_profile_3": make_contact_profile_pipeline(features=three)}, cv=3, verbose=0)
+    np.testing.assert_array_equal(_oof(named, "contact_profile_3"), _oof(built, "contact_profile_3"))
+    np.testing.assert_array_equal(_scores(named, "contact_profile_3"), _scores(built, "contact_profile_3"))
     # not the twelve: the three give other predictions on these presses
-    assert not np.array_equal(named.predictions["contact_profile_3"], named.predictions["contact_profile"])
+    assert not np.array_equal(_oof(named, "contact_profile_3"), _oof(named, "contact_profile"))
 
 
 def test_progress_on_stderr_when_verbose(tiny, capsys):
@@ -500,7 +538,7 @@ def test_progress_on_stderr_when_verbose(tiny, capsys):
     captured = capsys.readouterr()
     lines = captured.err.splitlines()
     assert lines[0].startswith("evaluate: 2 pipeline(s) (peak_change, dummy) x 3 folds on")
-    assert lines[1] == "evaluate: peak_contact_change of every press, once for all folds (peak_change)"
+    assert lines[1] == "evaluate: PeakContactChange of every press, once for all folds (peak_change)"
     done = [int(m) for m in re.findall(r"^evaluate: (\d)/6 fits, \d+s elapsed, about \d+s left(?:, not counting "
                                        r"dummy \(no fit finished yet\))?$",
                                        captured.err, flags=re.M)]
@@ -517,12 +555,12 @@ def test_peak_change_roi_measures_only_the_region():
     flicker = video.copy()
     flicker[4:, :, 16:] = np.where(np.arange(16) % 2 == 0, 200, 20)[None, None, :, None]
     gel = (0.0, 1.0, 0.0, 0.5)
-    whole, left = peak_contact_change([flicker]), peak_contact_change([flicker], roi=gel)
-    np.testing.assert_allclose(left, peak_contact_change([video], roi=gel))  # the flicker is ignored
+    whole, left = _peak([flicker]), _peak([flicker], roi=gel)
+    np.testing.assert_allclose(left, _peak([video], roi=gel))  # the flicker is ignored
     assert whole[0, 0] > left[0, 0] + 1
     base = make_peak_change_baseline(roi=gel)
-    np.testing.assert_allclose(base[0].transform([flicker]), left)
-    assert make_peak_change_baseline()[0].kw_args is None
+    np.testing.assert_allclose(base[0].fit_transform([flicker]), left)
+    assert make_peak_change_baseline()[0].roi is None
     for bad in [(0.5, 0.2, 0, 1), (0, 1, 0), (0, 1.5, 0, 1), "top"]:
         with pytest.raises(ValueError, match="roi must be None or"):
             make_peak_change_baseline(roi=bad)
@@ -539,7 +577,7 @@ def test_roi_reaches_the_baseline_and_every_named_pipeline():
         if name == "loading_compliance":  # force and position: no frames to read
             assert not any(k.endswith("__roi") for k in params), name
             continue
-        read = [v for k, v in params.items() if k.endswith("__roi")] or [params["functiontransformer__kw_args"]["roi"]]
+        read = [v for k, v in params.items() if k.endswith("__roi")]
         assert read == [FRAMED_GEL], name
     rng = np.random.default_rng(1)
     X, y = [], []
@@ -551,41 +589,42 @@ def test_roi_reaches_the_baseline_and_every_named_pipeline():
     data = Bunch(videos=X, target=np.array(y), target_names=np.array(["hard", "soft"]), object_id=np.arange(30))
     on_gel = _run(data, ["contact_profile"], cv=3, roi=FRAMED_GEL, verbose=0)
     whole = _run(data, ["contact_profile"], cv=3, verbose=0)
-    assert on_gel.table[1]["balanced_accuracy"] >= 0.9 > 0.6 >= whole.table[1]["balanced_accuracy"]
+    assert _rows(on_gel)["contact_profile"]["balanced_accuracy"] >= 0.9 > 0.6 >= _rows(whole)["contact_profile"][
+        "balanced_accuracy"]
 
 
 @pytest.mark.slow
 def test_per_press_steps_run_once_for_all_folds_with_the_same_results(tiny, monkeypatch):
     """Selection and features of each press: one pass for every fold and pipeline that shares them."""
     from sklearn_hardness.features import ContactProfileFeatures
-    from sklearn_hardness.model_selection import _evaluate
+    from sklearn_hardness.model_selection import _per_press
 
     calls = []
-    original = ContactProfileFeatures.fit_transform
+    original = ContactProfileFeatures._transform_presses
 
-    def counting(self, X, y=None, **params):
+    def counting(self, X):
         calls.append(len(X))
-        return original(self, X, y, **params)
+        return original(self, X)
 
-    monkeypatch.setattr(ContactProfileFeatures, "fit_transform", counting)
+    monkeypatch.setattr(ContactProfileFeatures, "_transform_presses", counting)
     names = ["contact_profile", "contact_profile_nn", "contact_profile_3", "ofnn"]
     once = _run(tiny, names, cv=3, verbose=0)
     # every press once, for the three contact-profile pipelines (contact_profile_3 takes its three columns
     # of the twelve) and all folds
     assert calls == [len(tiny.target)]
     calls.clear()
-    monkeypatch.setattr(_evaluate, "split_per_press", lambda est: (None, est))  # each fold computes its own
+    monkeypatch.setattr(_per_press, "split_per_press", lambda est: (None, est))  # each fold computes its own
     per_fold = _run(tiny, names, cv=3, verbose=0)
-    assert len(calls) == 9  # one pass per fold and pipeline
+    assert len(calls) == 27  # per fold and pipeline: fit, predict and predict_proba (the per-object score)
     for name in ["peak_change", *names]:
-        np.testing.assert_array_equal(once.predictions[name], per_fold.predictions[name])
-        np.testing.assert_array_equal(once.fold_scores[name], per_fold.fold_scores[name])
+        np.testing.assert_array_equal(_oof(once, name), _oof(per_fold, name))
+        np.testing.assert_array_equal(_scores(once, name), _scores(per_fold, name))
 
 
 @pytest.mark.slow
 def test_per_press_pass_gives_the_nets_the_same_inputs(tiny, monkeypatch):
     """The frame selector and frozen DINOv2 features (a tiny random backbone) once for all folds: the same results."""
-    from sklearn_hardness.model_selection import _evaluate
+    from sklearn_hardness.model_selection import _per_press
     from sklearn_hardness.models import make_convlstm_pipeline, make_dinov2nn_pipeline
 
     from .test_features_dinov2 import tiny_backbone
@@ -597,63 +636,62 @@ def test_per_press_pass_gives_the_nets_the_same_inputs(tiny, monkeypatch):
                                                    random_state=0)}
 
     once = _run(tiny, nets(), cv=3, baseline=False, verbose=0)
-    monkeypatch.setattr(_evaluate, "split_per_press", lambda est: (None, est))
+    monkeypatch.setattr(_per_press, "split_per_press", lambda est: (None, est))
     per_fold = _run(tiny, nets(), cv=3, baseline=False, verbose=0)
     for name in ("convlstm", "dinov2nn"):
-        np.testing.assert_array_equal(once.predictions[name], per_fold.predictions[name])
-        np.testing.assert_array_equal(once.fold_scores[name], per_fold.fold_scores[name])
-
-
-def test_all_columns_shares_a_contact_profile_pass_only_where_columns_can_be_taken():
-    from sklearn_hardness.features import ContactProfileFeatures
-    from sklearn_hardness.model_selection._per_press import all_columns, prefix_key, split_per_press
-    from sklearn_hardness.models import make_contact_profile_pipeline
-
-    twelve, _ = split_per_press(make_contact_profile_pipeline())
-    three, _ = split_per_press(make_contact_profile_pipeline(
-        features=["log_contact_spread", "log_peak_change"], max_side=80))
-    every, columns = all_columns(three)
-    assert columns == [11, 0] and prefix_key(every) == prefix_key(twelve)  # its order, from one shared pass
-    assert three.steps[-1][1].features == ["log_contact_spread", "log_peak_change"]  # not modified in place
-    assert all_columns(twelve) == (twelve, None)
-    # another max_side is another pass; a name the step refuses keeps its own pass, which fails as before
-    other, _ = all_columns(split_per_press(make_contact_profile_pipeline(features=["log_peak_change"],
-                                                                         max_side=40))[0])
-    assert prefix_key(other) != prefix_key(twelve)
-    for features in (["no_such_feature"], ["log_peak_change"] * 2):
-        refused = Pipeline([("features", ContactProfileFeatures(features=features))])
-        assert all_columns(refused) == (refused, None)
+        np.testing.assert_array_equal(_oof(once, name), _oof(per_fold, name))
+        np.testing.assert_array_equal(_scores(once, name), _scores(per_fold, name))
 
 
 def test_split_per_press_stops_at_the_first_step_that_learns():
+    from sklearn.pipeline import FeatureUnion
+    from sklearn.preprocessing import StandardScaler
+
+    from sklearn_hardness.features import ContactGeometryFeatures, ContactProfileFeatures
     from sklearn_hardness.model_selection._per_press import split_per_press
     from sklearn_hardness.models import (
-        make_contact_profile_pipeline,
+        make_contact_geometry_pipeline,
         make_convlstm_pipeline,
         make_dinov2nn_pipeline,
+        make_loading_compliance_pipeline,
         make_ofnn_pipeline,
     )
 
     steps = {name: [[n for n, _ in part.steps] if part is not None else None for part in split_per_press(est)]
              for name, est in [("cp", make_contact_profile_pipeline()), ("convlstm", make_convlstm_pipeline()),
                                ("ofnn", make_ofnn_pipeline()), ("dinov2nn", make_dinov2nn_pipeline()),
-                               ("peak", make_peak_change_baseline())]}
+                               ("peak", make_peak_change_baseline()),
+                               ("geometry+profile", make_contact_geometry_pipeline(with_profile=True)),
+                               ("loading", make_loading_compliance_pipeline())]}
     assert steps == {"cp": [["features"], ["scale", "clf"]], "convlstm": [["frames"], ["scale", "clf"]],
                      "ofnn": [["frames", "features"], ["clf"]], "dinov2nn": [["frames", "features"], ["clf"]],
-                     "peak": [["functiontransformer"], ["standardscaler", "logisticregression"]]}
-    # a transformer that may learn (any other function, a subclass) keeps the pipeline whole
+                     "peak": [["peakcontactchange"], ["standardscaler", "logisticregression"]],
+                     "geometry+profile": [["features"], ["scale", "clf"]],
+                     "loading": [["features"], ["log", "impute", "scale", "clf"]]}
+    # a transformer that may learn (any function, a union with one) keeps the pipeline whole
     other = make_pipeline(FunctionTransformer(np.log1p), DummyClassifier())
     assert split_per_press(other) == (None, other)
+    mixed = make_pipeline(FeatureUnion([("g", ContactGeometryFeatures()), ("s", StandardScaler())]),
+                          DummyClassifier())
+    assert split_per_press(mixed) == (None, mixed)
+    union = make_pipeline(FeatureUnion([("g", ContactGeometryFeatures()), ("p", ContactProfileFeatures())]),
+                          DummyClassifier())
+    assert [n for n, _ in split_per_press(union)[0].steps] == ["featureunion"]
 
 
 def test_a_press_no_step_can_read_fails_its_folds_as_before(tiny):
+    from sklearn.exceptions import FitFailedWarning
+
     videos = [tiny.videos[i] for i in range(len(tiny.target))]
     videos[0] = np.zeros((5, 8), dtype=np.uint8)  # not a video
     data = Bunch(videos=videos, target=tiny.target, target_names=tiny.target_names, object_id=tiny.object_id)
-    with pytest.warns(RuntimeWarning, match="failed on a fold"):
+    # every fold holds the press: the two folds that train on it fail to fit, the one that tests it to score
+    with pytest.warns(FitFailedWarning, match="4 fits failed out of a total of 6"), \
+            pytest.warns(UserWarning, match="Scoring failed"):
         result = _run(data, ["contact_profile"], cv=3, error_score=np.nan, verbose=0)
-    for row in result.table:  # every fold holds the press in training or test
-        assert np.isnan(row["balanced_accuracy"]) and row["error"], row
+    for name, row in _rows(result).items():
+        assert np.isnan(row["balanced_accuracy"]) and "must have shape (T, H, W, C)" in row["error"], name
+    assert np.isnan(result.cv_results_["test_balanced_accuracy"]).all()
 
 
 class _CountsFits(DummyClassifier):
@@ -669,13 +707,15 @@ class _CountsFits(DummyClassifier):
 def test_presses_a_pipeline_cannot_take_are_named_by_dataset_index_and_file(tiny):
     # one-frame videos: the contact-profile features take them, the nets' frame selection needs two
     # frames; the chunks of the per-press pass (and the folds) would name them by their index there
+    from sklearn.exceptions import FitFailedWarning
+
     from sklearn_hardness.model_selection._per_press import FailingPressesError
     from sklearn_hardness.preprocessing import ContactFrameSelector
 
     data = Bunch(**tiny)
     data.videos = [v[:1] if i in (5, 17) else v for i, v in enumerate(tiny.videos)]
     # a manifest's lazy videos: their keys (the files) name the presses
-    from sklearn_hardness.datasets._lazy import LazyVideoSequence
+    from sklearn_hardness.utils._lazy import LazyVideoSequence
 
     shortened = list(data.videos)
     data.videos = LazyVideoSequence(lambda path: shortened[int(path.split("_")[1].split(".")[0])],
@@ -684,8 +724,7 @@ def test_presses_a_pipeline_cannot_take_are_named_by_dataset_index_and_file(tiny
         lambda X: np.asarray(X, dtype=float).reshape(len(X), -1)), _CountsFits())
     _CountsFits.fits = 0
     with pytest.raises(FailingPressesError) as info:
-        _run(data, {"profile": make_contact_profile_pipeline(), "frames": frames}, cv=3,
-                           n_jobs=2, verbose=0)
+        _run(data, {"profile": make_contact_profile_pipeline(), "frames": frames}, cv=3, n_jobs=2, verbose=0)
     message = str(info.value)
     assert message.startswith("frames: ContactFrameSelector fails on 2 of 24 presses, each by itself:\n")
     assert ("  press 5 (objects/press_5.mp4): ValueError: the press has 1 frame(s); at least 2 are needed.\n"
@@ -693,10 +732,10 @@ def test_presses_a_pipeline_cannot_take_are_named_by_dataset_index_and_file(tiny
     assert "Remove their rows from the manifest" in message
     assert [i for i, _ in info.value.failures] == [5, 17] and _CountsFits.fits == 0  # before any fit
     # with a numeric error_score: its folds fail at once (no fit), the notes name the presses, others score
-    with pytest.warns(RuntimeWarning, match="'frames' failed on a fold"):
+    with pytest.warns(FitFailedWarning, match="3 fits of 'frames' failed"):
         result = _run(data, {"profile": make_contact_profile_pipeline(), "frames": frames}, cv=3,
-                                    error_score=np.nan, verbose=0)
-    rows = {r["pipeline"]: r for r in result.table}
+                      error_score=np.nan, verbose=0)
+    rows = _rows(result)
     assert _CountsFits.fits == 0 and np.isnan(rows["frames"]["balanced_accuracy"])
     assert rows["frames"]["error"] == ("FailingPressesError: ContactFrameSelector fails on 2 of 24 presses "
                                        "(the notes name them)")
@@ -709,6 +748,8 @@ def test_presses_a_pipeline_cannot_take_are_named_by_dataset_index_and_file(tiny
 
 def test_an_error_of_the_steps_not_the_presses_is_raised_as_it_is(tiny):
     # every press would fail alone with it: a parameter, not the presses (as missing weights would be)
+    from sklearn.exceptions import FitFailedWarning
+
     from sklearn_hardness.model_selection._per_press import FailingPressesError
     from sklearn_hardness.preprocessing import ContactFrameSelector
 
@@ -716,9 +757,10 @@ def test_an_error_of_the_steps_not_the_presses_is_raised_as_it_is(tiny):
     with pytest.raises(ValueError, match="roi") as info:
         _run(tiny, {"bad": bad}, cv=3, n_jobs=2, verbose=0)
     assert not isinstance(info.value, FailingPressesError)
-    with pytest.warns(RuntimeWarning, match="failed on a fold"):
+    with pytest.warns(FitFailedWarning, match="roi"):
         result = _run(tiny, {"bad": bad}, cv=3, error_score=np.nan, verbose=0)
-    assert "roi" in result.table[1]["error"] and "FailingPressesError" not in result.table[1]["error"]
+    error = _rows(result)["bad"]["error"]
+    assert "roi" in error and "FailingPressesError" not in error
 
 
 def test_an_error_no_press_raises_alone_is_raised_as_it_is():
@@ -753,7 +795,7 @@ def test_plot_confusion_matrices_draws_one_row_normalised_matrix_per_pipeline(tm
     with pytest.raises(ValueError, match="one per pipeline"):
         ConfusionMatricesDisplay.from_result(result, ax=axes[:1])
     axes = [ax for ax in fig.axes if ax.images]
-    assert len(axes) == len(result.confusion) == 2
+    assert len(axes) == len(result.pipelines) == 2
     shown = np.asarray(axes[0].images[0].get_array())
     np.testing.assert_allclose(shown.sum(axis=1), 1.0)  # recall per true class
 
@@ -772,16 +814,14 @@ def test_loading_compliance_reads_force_and_position_on_the_same_folds(tiny):
 
     spied = make_loading_compliance_pipeline()
     spied.steps[0] = ("features", Spy(features=["hertz_compliance"]))
-    result = _run(tiny, {"spied": spied, "named": make_loading_compliance_pipeline()}, cv=3,
-                                verbose=0)
-    by_name = {row["pipeline"]: row for row in result.table}
-    np.testing.assert_array_equal(result.fold_scores["spied"], result.fold_scores["named"])
-    assert all(np.isfinite(result.fold_scores["named"])) and by_name["named"]["error"] is None
+    result = _run(tiny, {"spied": spied, "named": make_loading_compliance_pipeline()}, cv=3, verbose=0)
+    by_name = _rows(result)
+    np.testing.assert_array_equal(_scores(result, "spied"), _scores(result, "named"))
+    assert all(np.isfinite(_scores(result, "named"))) and by_name["named"]["error"] is None
     assert by_name["named"]["predict_proba_samples"]
-    first_train = result.folds[0]  # fold 0's test presses; its training presses are the rest
-    expected = [np.column_stack([tiny.force[i], tiny.position[i]]) for i in range(len(tiny.target))
-                if i not in set(first_train)]
-    assert len(seen[0]) == len(expected)
+    # the one pass over every press's force and position: what the spy saw
+    expected = [np.column_stack([tiny.force[i], tiny.position[i]]) for i in range(len(tiny.target))]
+    assert len(seen) == 1 and len(seen[0]) == len(expected)
     for got, want in zip(seen[0], expected):
         np.testing.assert_array_equal(got, want)
     # the force and the sensor's position tell new objects apart better than the video's one number
@@ -832,14 +872,14 @@ def test_by_default_evaluate_adds_loading_compliance_where_every_press_has_force
     from sklearn_hardness._cli import build_parser
     from sklearn_hardness._cli._evaluate import _force_position
     from sklearn_hardness._registry import DEFAULT_PIPELINES
-    from sklearn_hardness.model_selection import _evaluate
+    from sklearn_hardness.model_selection import _validation
 
     assert len(_force_position(tiny, None)) == len(tiny.target)  # the command adds loading_compliance
-    assert list(_evaluate._named_estimators(None, None, 0, _force_position(tiny, None))[0]) == [
+    assert list(_validation._named_estimators(None, None, 0, _force_position(tiny, None))[0]) == [
         *DEFAULT_PIPELINES, "loading_compliance"]
     no_position = Bunch(**{k: v for k, v in tiny.items() if k != "position"})
     assert _force_position(no_position, None) is None
-    assert list(_evaluate._named_estimators(None, None, 0, None)[0]) == list(DEFAULT_PIPELINES)
+    assert list(_validation._named_estimators(None, None, 0, None)[0]) == list(DEFAULT_PIPELINES)
     one_lacking = Bunch(**tiny)
     one_lacking.position = [None, *tiny.position[1:]]
     assert _force_position(one_lacking, None) is None
@@ -853,7 +893,7 @@ def test_a_multi_axis_force_is_an_error_that_says_which_component_to_give(tiny):
         _run(three_axis, ["loading_compliance"], cv=3, verbose=0)
     column = Bunch(**tiny)
     column.position = [z[:, None] for z in tiny.position]  # (T, 1) is one number per frame
-    assert _run(column, ["loading_compliance"], cv=3, verbose=0).table[1]["error"] is None
+    assert _rows(_run(column, ["loading_compliance"], cv=3, verbose=0))["loading_compliance"]["error"] is None
 
 
 def test_notes_say_once_what_the_folds_warnings_would_have_said(tiny):
@@ -917,12 +957,14 @@ def test_flow_note_counts_the_corners_and_lost_tracks_of_every_press(tiny):
     corners = tracks.n_corners
     lost = np.sum(tracks.valid[:, :, 0] & ~tracks.valid[:, :, -1], axis=1)
     assert corners[3] == 0 and corners.max() > 0 and lost.sum() > 0
-    # the pass gives the pipeline's rows, and what the flow found on each press, in press order
+    # the pass gives the pipeline's rows, and what each per-press step found on each press, in press order
     Xt, _, found = transform_per_press(prefix, data.videos, n_jobs=2)
     np.testing.assert_array_equal(Xt, expected)
-    np.testing.assert_array_equal(found["flow_corners"], corners)
-    np.testing.assert_array_equal(found["flow_tracks_lost"], lost)
-    assert set(found) == {"contact_status", "flow_corners", "flow_tracks_lost"}
+    (selector, selected), (steps_flow, flowed) = found
+    assert isinstance(selector, ContactFrameSelector) and isinstance(steps_flow, OpticalFlowFeatures)
+    np.testing.assert_array_equal(flowed["n_corners"], corners)
+    np.testing.assert_array_equal(flowed["n_lost"], lost)
+    assert selected["status"][3] == "no contact" and len(selected["status"]) == len(corners)
 
     # another pass whose tracks are the same (fill_lost changes the rows, not the tracks) shares the line
     same_tracks = clone(flow).set_params(opticalflowfeatures__fill_lost="last")
@@ -959,16 +1001,15 @@ def test_slow_fits_are_shared_among_the_workers(tiny, tmp_path):
     # 24 quick fits and 6 slow ones on 2 workers: joblib's automatic batching, timed on the quick ones, put
     # four of the six slow fits on one worker in each of three tries; one fit to a task shares them
     quick = {f"quick_{i}": DummyClassifier(strategy="prior") for i in range(3)}
-    result = _run(tiny, {**quick, "slow": _SlowDummy(tmp_path)}, cv=3, n_repeats=2, n_jobs=2,
-                                verbose=0)
-    assert result.table[-1]["error"] is None
+    result = _run(tiny, {**quick, "slow": _SlowDummy(tmp_path)}, cv=3, n_repeats=2, n_jobs=2, verbose=0)
+    assert _rows(result)["slow"]["error"] is None
     pids = [p.name.split("_")[0] for p in tmp_path.iterdir()]
     assert len(pids) == 6
     assert max(pids.count(p) for p in set(pids)) <= 3, pids
 
 
 def test_seconds_left_times_each_pipeline_by_its_own_fits():
-    from sklearn_hardness.model_selection._evaluate import _seconds_left
+    from sklearn_hardness.model_selection._validation import _seconds_left
 
     # the baseline's 5 fits took 0.01 s each, the net's first of 5 took 70 s: 4 net fits of 70 s on 2 workers
     # (the mean over every finished fit would say 71 s / 6 fits x 4 fits left, under a minute)
@@ -1013,25 +1054,22 @@ def test_contact_geometry_features_are_computed_once_per_press():
 
 
 def test_named_pipeline_memory_makes_a_second_fit_of_the_same_steps_a_cache_hit(tiny, tmp_path):
-    import functools
-
     from joblib import Memory
 
-    from sklearn_hardness.features import _contact_geometry
+    from sklearn_hardness.features import ContactGeometryFeatures
 
     calls = []
-    original = _contact_geometry._press_row
+    original = ContactGeometryFeatures._transform_presses
 
-    @functools.wraps(original)  # the cache keys rows by the function's name
-    def counting(*args, **kwargs):
-        calls.append(1)
-        return original(*args, **kwargs)
+    def counting(self, X):
+        calls.append(len(X))
+        return original(self, X)
 
     pipe = make_named_pipeline("contact_geometry", memory=Memory(tmp_path, verbose=0))
     # the per-press feature step takes the memory (rows keyed by press); the Pipeline does not hash X
     assert pipe.named_steps["features"].memory is not None and pipe.memory is None
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(_contact_geometry, "_press_row", counting)
+        mp.setattr(ContactGeometryFeatures, "_transform_presses", counting)
         first = clone(pipe).fit(tiny.videos, tiny.target).predict(tiny.videos[:4])
         n_first = len(calls)
         second = clone(pipe).fit(tiny.videos, tiny.target).predict(tiny.videos[:4])
@@ -1050,7 +1088,7 @@ def _load_counted(key):
 def test_a_lazy_video_sequence_hashes_by_its_keys_without_reading_a_frame():
     import joblib
 
-    from sklearn_hardness.datasets._lazy import LazyVideoSequence
+    from sklearn_hardness.utils._lazy import LazyVideoSequence
 
     reads, load = _READS, _load_counted
     reads.clear()
@@ -1073,13 +1111,13 @@ def test_params_route_the_training_folds_groups_to_an_inner_grid_search(tiny):
             seen.append(set(np.asarray(groups).tolist()))
             return super().split(X, y, groups)
 
-    inner = GridSearchCV(make_pipeline(FunctionTransformer(peak_contact_change), LogisticRegression()),
+    inner = GridSearchCV(make_pipeline(PeakContactChange(), LogisticRegression()),
                          {"logisticregression__C": [0.1, 1.0]}, cv=_Recording(n_splits=2))
     result = evaluate_pipelines({"grid": inner}, tiny.videos, tiny.target, groups=tiny.object_id, cv=3,
                                 target_names=tiny.target_names, params={"grid": {"groups": tiny.object_id}},
                                 error_score="raise", random_state=0)
-    assert len(seen) == 3 and np.all(np.isfinite(result.fold_scores["grid"]))
-    for test, groups in zip(result.folds, seen):  # one inner search a fold, on its training objects alone
+    assert len(seen) == 3 and np.all(np.isfinite(_scores(result, "grid")))
+    for test, groups in zip(_folds(result), seen):  # one inner search a fold, on its training objects alone
         train = np.setdiff1d(np.arange(len(tiny.target)), test)
         assert groups == set(tiny.object_id[train].tolist())
         assert not groups & set(tiny.object_id[test].tolist())
@@ -1091,20 +1129,20 @@ def test_evaluate_takes_any_splitter_and_returns_a_documented_result(tiny):
     result = evaluate_pipelines({"dummy": DummyClassifier()}, tiny.videos, tiny.target, groups=tiny.object_id,
                                 cv=GroupKFold(4))
     assert isinstance(result, EvaluationResult) and result.baseline == "peak_change"
-    assert result.summary["pipeline"] == ["peak_change", "dummy"] and len(result.fold_scores["dummy"]) == 4
-    np.testing.assert_allclose(result.differences["dummy"],
-                               result.fold_scores["dummy"] - result.fold_scores["peak_change"])
-    assert set(result.summary) >= {"balanced_accuracy_low", "vs_baseline_high"} and "dummy" in str(result.summary)
-    assert "object-disjoint 4-fold CV" in str(result)
+    assert result.summary["pipeline"] == ["peak_change", "dummy"] and len(_scores(result, "dummy")) == 4
+    assert set(result.summary) >= {"balanced_accuracy_low", "balanced_accuracy_vs_baseline_high"}
+    assert "object-disjoint 4-fold CV" in str(result) and "dummy" in repr(result)
     pd = pytest.importorskip("pandas")
-    assert isinstance(result.summary.to_frame(), pd.DataFrame)
+    frame = pd.DataFrame(result.cv_results_)  # as scikit-learn's results: the dict of arrays as it is
+    assert len(frame) == 8 and frame.groupby("pipeline").size().to_dict() == {"dummy": 4, "peak_change": 4}
+    assert isinstance(pd.DataFrame(result.summary).set_index("pipeline"), pd.DataFrame)
     with pytest.warns(UserWarning, match="both sides of a fold"):  # a splitter that ignores the groups
         evaluate_pipelines([], tiny.videos, tiny.target, groups=tiny.object_id, cv=KFold(3))
     # a registry name or a (name, estimator) pair as baseline; names as strings, encoded labels
     names = np.asarray(tiny.target_names)[tiny.target]
     pairs = evaluate_pipelines([("dummy", DummyClassifier())], tiny.videos, names, groups=tiny.object_id, cv=3,
                                baseline=("one", make_peak_change_baseline()))
-    assert list(pairs.fold_scores) == ["one", "dummy"] and list(pairs.target_names) == sorted(set(names))
+    assert pairs.pipelines == ["one", "dummy"] and list(pairs.target_names) == sorted(set(names))
 
 
 def test_family_groups_keep_the_per_object_figures_by_object(tiny):
@@ -1115,8 +1153,166 @@ def test_family_groups_keep_the_per_object_figures_by_object(tiny):
     family = np.array([f"f{int(c)}-{rank[o] % 2}" for c, o in zip(tiny.target, tiny.object_id)])
     result = evaluate_pipelines({"dummy": DummyClassifier()}, tiny.videos, tiny.target, groups=family,
                                 objects=tiny.object_id, cv=2, target_names=tiny.target_names)
-    for test in result.folds:
+    for test in _folds(result):
         train = np.setdiff1d(np.arange(len(tiny.target)), test)
         assert not set(family[test]) & set(family[train])
     assert np.array_equal(result.objects, tiny.object_id)  # per-object scoring by object, not by family
     assert "group-disjoint" in str(result)
+
+
+def test_steps_that_differ_only_in_their_columns_share_one_pass():
+    from sklearn_hardness.features import ContactProfileFeatures
+    from sklearn_hardness.model_selection._per_press import _shared, prefix_key, split_per_press
+
+    twelve, _ = split_per_press(make_contact_profile_pipeline())
+    three, _ = split_per_press(make_contact_profile_pipeline(
+        features=["log_contact_spread", "log_peak_change"], max_side=80))
+    every, columns = _shared(three)
+    assert columns == [11, 0] and prefix_key(every) == prefix_key(twelve)  # its order, from one shared pass
+    assert three.steps[-1][1].features == ["log_contact_spread", "log_peak_change"]  # not modified in place
+    assert _shared(twelve) == (twelve, None)
+    # another max_side is another pass; a name the step refuses keeps its own pass, which fails as before
+    other, _ = _shared(split_per_press(make_contact_profile_pipeline(features=["log_peak_change"],
+                                                                     max_side=40))[0])
+    assert prefix_key(other) != prefix_key(twelve)
+    for features in (["no_such_feature"], ["log_peak_change"] * 2):
+        refused = Pipeline([("features", ContactProfileFeatures(features=features))])
+        assert _shared(refused) == (refused, None)
+
+
+def test_a_feature_union_pipeline_gets_the_shared_pass_with_the_same_results(tiny, monkeypatch):
+    """``make_contact_geometry_pipeline(with_profile=True)``: a FeatureUnion of two per-press steps."""
+    from sklearn.model_selection import GroupKFold, cross_val_predict
+
+    from sklearn_hardness.features import ContactGeometryFeatures
+    from sklearn_hardness.models import make_contact_geometry_pipeline
+
+    calls = []
+    original = ContactGeometryFeatures._transform_presses
+
+    def counting(self, X):
+        calls.append(len(X))
+        return original(self, X)
+
+    monkeypatch.setattr(ContactGeometryFeatures, "_transform_presses", counting)
+    union = make_contact_geometry_pipeline(with_profile=True)
+    result = _run(tiny, {"union": union}, cv=GroupKFold(3), verbose=0)
+    assert calls == [len(tiny.target)]  # one pass over every press for all three folds
+    folds = [(np.asarray(train), np.asarray(test)) for train, test in
+             GroupKFold(3).split(tiny.videos, tiny.target, tiny.object_id)]
+    # scikit-learn's own cross-validation of the same pipeline (each fold fits and transforms its presses)
+    expected = cross_val_predict(union, tiny.videos, tiny.target, cv=folds)
+    np.testing.assert_array_equal(_oof(result, "union"), expected)
+
+
+def test_confusion_matrices_display_normalises_and_passes_through_as_scikit_learn_does():
+    import matplotlib.pyplot as plt
+    from sklearn.metrics import ConfusionMatrixDisplay
+
+    data = make_presses("everyday", n_per_class=2, n_objects=9, class_ratio=[1, 1, 1],
+                        image_size=(32, 40), codec=None, random_state=0)
+    result = _run(data, pipelines={"dummy": DummyClassifier(strategy="prior")}, cv=3, verbose=0)
+    pred = _oof(result, "peak_change")
+    for normalize in ("true", "pred", "all", None):
+        display = ConfusionMatricesDisplay.from_result(result, normalize=normalize, cmap="Blues", colorbar=True,
+                                                       im_kw={"interpolation": "nearest"},
+                                                       text_kw={"fontsize": 7}, values_format=".1f")
+        # scikit-learn's display of the same out-of-fold predictions, normalised where its matrix is made
+        theirs = ConfusionMatrixDisplay.from_predictions(data.target, pred, labels=[0, 1, 2], normalize=normalize,
+                                                         display_labels=data.target_names)
+        panel = display.displays_["peak_change"]
+        np.testing.assert_allclose(panel.confusion_matrix, theirs.confusion_matrix)
+        assert panel.im_.get_cmap().name == "Blues" and panel.im_.get_interpolation() == "nearest"
+        assert panel.text_[0, 0].get_fontsize() == 7 and panel.text_[0, 0].get_text() == format(
+            panel.confusion_matrix[0, 0], ".1f")
+        assert len(display.figure_.axes) == 4  # a colorbar beside each panel
+        assert [t.get_text() for t in panel.ax_.get_xticklabels()] == list(data.target_names)
+        plt.close("all")
+    with pytest.raises(TypeError):  # keyword-only after the data, as scikit-learn's
+        ConfusionMatricesDisplay({"a": np.eye(2, dtype=int)}, ["x", "y"])
+    with pytest.raises(ValueError, match="normalize must be"):
+        ConfusionMatricesDisplay.from_result(result, normalize="rows")
+    counts = ConfusionMatricesDisplay({"a": np.array([[3, 1], [0, 4]])}).plot()
+    assert counts.displays_["a"].text_[0, 0].get_text() == "3"  # counts in "d" format
+
+
+def test_estimators_are_validated_the_same_whatever_n_jobs_as_cross_validate_does(tiny):
+    """The estimators' own validation runs in every fit, in workers too; where every fit fails the call raises."""
+    from sklearn.linear_model import LogisticRegression
+    from sklearn.model_selection import GroupKFold, cross_validate
+
+    X = _peak(tiny.videos)  # one number per press: a table a plain LogisticRegression takes
+    for n_jobs in (None, 2):
+        with pytest.raises(ValueError, match="All the 2 fits failed") as ours:
+            evaluate_pipelines({"lr": LogisticRegression(max_iter=-5)}, X, tiny.target, groups=tiny.object_id,
+                               cv=GroupKFold(2), baseline=None, n_jobs=n_jobs)
+        with pytest.raises(ValueError, match="All the 2 fits failed") as theirs:
+            cross_validate(LogisticRegression(max_iter=-5), X, tiny.target, groups=tiny.object_id,
+                           cv=GroupKFold(2), n_jobs=n_jobs)
+        for error in (ours.value, theirs.value):
+            assert "The 'max_iter' parameter of LogisticRegression must be an int in the range [0, inf)" in str(error)
+
+
+def test_cv_results_are_cross_validates_side_by_side(tiny):
+    """Scores, indices, train scores and fitted estimators of one pipeline: those of cross_validate."""
+    from sklearn.metrics import make_scorer, recall_score
+    from sklearn.model_selection import GroupKFold, cross_validate
+
+    pipe = make_contact_profile_pipeline()
+    cv = GroupKFold(3)
+    scoring = ["balanced_accuracy", "accuracy"]
+    ours = evaluate_pipelines({"cp": pipe}, tiny.videos, tiny.target, groups=tiny.object_id, cv=cv, baseline=None,
+                              scoring=scoring, return_train_score=True, return_estimator=True).cv_results_
+    theirs = cross_validate(pipe, tiny.videos, tiny.target, groups=tiny.object_id, cv=cv, scoring=scoring,
+                            return_train_score=True, return_estimator=True, return_indices=True)
+    for key in ("test_balanced_accuracy", "test_accuracy", "train_balanced_accuracy", "train_accuracy"):
+        np.testing.assert_allclose(ours[key], theirs[key])
+    for which in ("train", "test"):
+        for a, b in zip(ours[f"{which}_indices"], theirs["indices"][which]):
+            np.testing.assert_array_equal(a, b)
+    assert ours["fit_time"].shape == ours["score_time"].shape == theirs["fit_time"].shape == (3,)
+    for a, b in zip(ours["estimator"], theirs["estimator"]):  # whole fitted pipelines: they predict new presses
+        assert [n for n, _ in a.steps] == [n for n, _ in b.steps]
+        np.testing.assert_array_equal(a.predict(tiny.videos[:6]), b.predict(tiny.videos[:6]))
+    # a single scorer (a name or a callable) gives test_score; a dict its own names
+    recall = make_scorer(recall_score, average="macro")
+    single = evaluate_pipelines({"cp": pipe}, tiny.videos, tiny.target, groups=tiny.object_id, cv=cv,
+                                baseline=None, scoring=recall)
+    np.testing.assert_allclose(single.cv_results_["test_score"],
+                               cross_validate(pipe, tiny.videos, tiny.target, groups=tiny.object_id, cv=cv,
+                                              scoring=recall)["test_score"])
+    assert "score [95% CI]" in str(single) and "test_balanced_accuracy" not in single.cv_results_
+    named = evaluate_pipelines({"cp": pipe}, tiny.videos, tiny.target, groups=tiny.object_id, cv=cv,
+                               scoring={"bal": "balanced_accuracy", "per_object": "object_balanced_accuracy"})
+    np.testing.assert_allclose(fold_scores(named.cv_results_, "cp", "bal"), theirs["test_balanced_accuracy"])
+    assert "test_per_object" in named.cv_results_ and named.summary["bal_vs_baseline"][1] == pytest.approx(
+        np.mean(fold_scores(named.cv_results_, "cp", "bal") - fold_scores(named.cv_results_, "peak_change", "bal")))
+    # an iterable of (train, test) pairs, as check_cv takes it, gives the same folds
+    pairs = list(cv.split(tiny.videos, tiny.target, tiny.object_id))
+    again = evaluate_pipelines({"cp": pipe}, tiny.videos, tiny.target, groups=tiny.object_id, cv=pairs,
+                               baseline=None, scoring=scoring)
+    np.testing.assert_allclose(again.cv_results_["test_accuracy"], theirs["test_accuracy"])
+    with pytest.raises(ValueError, match="neg_hardness_mae.*needs hardness"):
+        evaluate_pipelines({"cp": pipe}, tiny.videos, tiny.target, groups=tiny.object_id, cv=cv,
+                           scoring=["neg_hardness_mae"])
+    with pytest.raises(ValueError, match="not a valid scoring value"):
+        evaluate_pipelines({"cp": pipe}, tiny.videos, tiny.target, groups=tiny.object_id, cv=cv, scoring="nope")
+
+
+def test_default_scores_are_the_balanced_accuracy_per_press_and_per_object_and_the_mae(tiny):
+    from sklearn.metrics import balanced_accuracy_score
+
+    from sklearn_hardness.metrics import hardness_mae
+
+    result = _run(tiny, {"dummy": DummyClassifier(strategy="stratified", random_state=0)}, cv=3, verbose=0)
+    cv = result.cv_results_
+    assert [k for k in cv if k.startswith("test_") and "_ind" not in k and "_pred" not in k] == [
+        "test_balanced_accuracy", "test_object_balanced_accuracy", "test_neg_hardness_mae"]
+    for i in range(len(cv["pipeline"])):
+        y, pred = tiny.target[cv["test_indices"][i]], cv["test_predictions"][i]
+        assert cv["test_balanced_accuracy"][i] == pytest.approx(balanced_accuracy_score(y, pred))
+        assert cv["test_neg_hardness_mae"][i] == pytest.approx(-hardness_mae(y, pred, tiny.hardness))
+    # the text gives the MAE as a positive error, as before
+    mae = -np.mean(_scores(result, "dummy", "neg_hardness_mae"))
+    line = next(line for line in format_evaluation(result).splitlines() if line.startswith("dummy"))
+    assert f" {mae:.2f} " in line

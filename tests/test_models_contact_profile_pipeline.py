@@ -109,11 +109,11 @@ def test_contact_profile_nn_runs_by_name_in_evaluate():
                      codec=None, random_state=0)
     result = evaluate_pipelines(["contact_profile", "contact_profile_nn"], d.videos, d.target, groups=d.object_id,
                                 cv=3, target_names=d.target_names, error_score="raise", random_state=0)
-    assert [r["pipeline"] for r in result.table] == ["peak_change", "contact_profile", "contact_profile_nn"]
-    assert all(np.isfinite(r["balanced_accuracy"]) for r in result.table)
-    assert result.predictions["contact_profile_nn"].shape == (len(d.target),)
+    assert result.pipelines == ["peak_change", "contact_profile", "contact_profile_nn"]
+    assert np.all(np.isfinite(result.summary["balanced_accuracy"]))
+    assert (result.out_of_fold_predictions("contact_profile_nn") >= 0).all()
     # the longer name keeps the table's columns: accuracies start in one column
-    names = [r["pipeline"] for r in result.table]
+    names = result.pipelines
     lines = format_evaluation(result).splitlines()
     first = next(i for i, line in enumerate(lines) if line.split(" ")[0] == names[0])
     rows = lines[first:first + len(names)]

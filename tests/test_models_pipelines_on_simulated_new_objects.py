@@ -24,7 +24,7 @@ from sklearn.model_selection import StratifiedGroupKFold
 from sklearn.pipeline import make_pipeline
 
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.features import ContactProfileFeatures, OpticalFlowFeatures
+from sklearn_hardness.features import ContactProfileFeatures, OpticalFlowFeatures, PeakContactChange
 from sklearn_hardness.models import (
     ConvLSTMClassifier,
     OFNNClassifier,
@@ -32,7 +32,6 @@ from sklearn_hardness.models import (
     make_convlstm_pipeline,
     make_ofnn_pipeline,
     make_peak_change_baseline,
-    peak_contact_change,
 )
 from sklearn_hardness.models._intensity_channels import IntensityChannels
 from sklearn_hardness.models._pipelines import FrameScaler
@@ -58,7 +57,7 @@ def everyday():
         raw = make_ofnn_pipeline().named_steps["frames"].set_params(n_jobs=2).fit_transform(data.videos)
         flow = {out: OpticalFlowFeatures(output=out, n_jobs=2).fit_transform(raw)
                 for out in ("tracks", "magnitude_quantiles")}
-    peak = peak_contact_change(data.videos)
+    peak = PeakContactChange().fit_transform(data.videos)
     profile = ContactProfileFeatures(n_jobs=2).fit_transform(data.videos)
     return data, np.asarray(data.target), np.asarray(data.object_id), frames, flow, peak, profile
 

@@ -156,20 +156,35 @@ def _write(args, result, table, display, output_header, read_header):
     # what made the table: the command (less where its output goes), version, date, platform
     provenance = output_header(_reproduce_command(getattr(args, "argv", None) or sys.argv[1:]))
     (out / "evaluation.txt").write_text(provenance + "\n" + table + "\n")
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    display.from_result(result).figure_.savefig(out / "confusion_matrices.png", dpi=100)
-    rows = [{k: (list(v) if isinstance(v, tuple) else v) for k, v in r.items()} for r in result.table]
+    written = [out / "evaluation.txt"]
+    try:
+        import matplotlib
+    except ImportError:
+        print('confusion_matrices.png not written: it needs matplotlib (pip install "sklearn-hardness[plot]")',
+              file=sys.stderr)
+    else:
+        matplotlib.use("Agg", force=False)
+        display.from_result(result).figure_.savefig(out / "confusion_matrices.png", dpi=100)
+        written.append(out / "confusion_matrices.png")
+    cv_results = {key: [_plain(v) for v in values] for key, values in result.cv_results_.items()
+                  if key != "estimator"}
     (out / "evaluation.json").write_text(_json_text(
-        {"table": rows, "fold_scores": {k: v.tolist() for k, v in result.fold_scores.items()},
-         "object_fold_scores": {k: v.tolist() for k, v in result.object_fold_scores.items()},
-         "n_repeats": result.n_repeats, "groups": args.groups, "notes": result.notes,
+        {"cv_results": cv_results, "summary": result.summary, "n_splits": result.n_splits,
+         "n_repeats": result.n_repeats, "baseline": result.baseline, "groups": args.groups, "notes": result.notes,
          "recommended": result.recommended, "recommended_with_samples": result.recommended_with_samples,
          "target_names": result.target_names.tolist(), "provenance": read_header(provenance)}))
+    written.append(out / "evaluation.json")
     if not args.quiet:
-        print(f"wrote {out / 'evaluation.txt'}, {out / 'confusion_matrices.png'} and {out / 'evaluation.json'}",
-              file=sys.stderr)
+        print(f"wrote {', '.join(map(str, written[:-1]))} and {written[-1]}", file=sys.stderr)
+
+
+def _plain(value):
+    """A ``cv_results_`` entry as JSON takes it: arrays as lists, NumPy scalars as Python's."""
+    import numpy as np
+
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    return value.item() if isinstance(value, np.generic) else value
 
 
 def _json_text(obj):

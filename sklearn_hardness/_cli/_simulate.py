@@ -58,9 +58,9 @@ def _run_simulate(args):
 
     import numpy as np
     from joblib import Parallel, delayed
-    from tqdm.auto import tqdm
 
     from ..datasets import make_presses
+    from ..utils._progress import progress_bar
 
     _check_out_dir(args.out)
     codec = None if args.codec.lower() == "none" else args.codec
@@ -78,7 +78,7 @@ def _run_simulate(args):
         delayed(_write_presses)(data.videos[c], [names[i] for i in c], root, ext, data.fps)
         for c in chunks
     )
-    with tqdm(total=n, unit="video", desc=f"simulate {args.preset}", disable=True if args.quiet else None) as bar:
+    with progress_bar(total=n, unit="video", desc=f"simulate {args.preset}", enabled=not args.quiet) as bar:
         for c, _ in zip(chunks, jobs):
             bar.update(len(c))
     pp = data.press_params

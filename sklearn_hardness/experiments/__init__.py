@@ -16,8 +16,10 @@
 - :func:`get_config`: the paper's hyperparameters per preset;
   :func:`check_config` checks one.
 - :func:`run_paper_protocol`: all of the above, as ``sklearn-hardness reproduce --protocol paper``.
-- :func:`load_dataset`: the data an experiment's ``dataset`` names;
-  :func:`default_cache_dir`, :func:`clear_cache`: the cache of prepared inputs.
+- :func:`load_dataset`: the data an experiment's ``dataset`` names. The
+  prepared inputs are the per-press steps' rows, cached in
+  :func:`sklearn_hardness.utils.default_cache_dir` by default
+  (:func:`sklearn_hardness.utils.clear_cache` deletes them).
 
 Object-disjoint evaluation of pipelines on new objects is
 :mod:`sklearn_hardness.model_selection`.
@@ -26,7 +28,7 @@ Object-disjoint evaluation of pipelines on new objects is
 from ._active import run_active_sampling
 from ._baselines import run_dropout_sweep, run_model_baselines
 from ._config import check_config, get_config
-from ._data import clear_cache, default_cache_dir, load_dataset
+from ._data import load_dataset
 from ._plotting import plot_active_sampling, plot_model_baselines, plot_uncertainty, save_figures
 from ._protocol import run_paper_protocol
 from ._results import ExperimentResult
@@ -52,7 +54,5 @@ __all__ = [
     "check_config",
     "run_paper_protocol",
     "load_dataset",
-    "default_cache_dir",
-    "clear_cache",
     "ExperimentResult",
 ]

@@ -1,30 +1,34 @@
-"""Inputs of the experiments: the deterministic transforms, computed once per dataset.
+"""Inputs of the experiments: the per-press steps, computed once per dataset.
 
 Contact-frame selection and the frozen feature extractors (optical flow,
-DINOv2) do not change between runs, strategies or seeds, so every experiment
-computes them once for all presses of a dataset; each run then only indexes
-into the arrays. With ``memory`` (a folder or :class:`joblib.Memory`) they are
-also cached on disk between calls and processes (keyed by the dataset's
-description and the transform parameters).
+DINOv2, the contact profile and geometry, a robot's loading figures) do not
+change between runs, strategies or seeds, so every experiment computes them
+once for all presses of a dataset; each run then only indexes into the
+arrays. They are per-press steps
+(:class:`~sklearn_hardness.utils.PerPressTransformerMixin`): with ``memory``
+(a folder or :class:`joblib.Memory`; by default :func:`default_cache_dir`)
+each press's rows are cached on disk, as every per-press step caches them
+(one cache format, one key: the step's parameters, the code that computes
+rows, the press), between calls and processes, and shared with a user's own
+pipelines given the same ``memory``.
 """
 
 from __future__ import annotations
 
-import hashlib
 import os
-import tempfile
 import warnings
 
 import joblib
 import numpy as np
 from sklearn.utils import Bunch
-from tqdm.auto import tqdm
 
 from ..datasets import load_press_videos, make_presses
 from ..features import ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
 from ..models import make_named_pipeline
 from ..preprocessing import ContactFrameSelector
 from ..utils._force_position import force_position
+from ..utils._per_press import default_cache_dir
+from ..utils._progress import progress_bar
 from ..utils._unreadable import raise_unreadable
 from ..utils._validation import rename_videos
 from ..utils._warnings import external_stacklevel
@@ -35,8 +39,6 @@ from ._models import frame_params as _frame_params
 __all__ = ["load_dataset", "prepare_inputs"]
 
 _SIM_PRESETS = ("silicone5", "shore9", "everyday")
-_MEMO = {}  # in-process cache of prepared inputs (a few small arrays)
-_MEMO_MAX = 4
 
 
 def _dataset_spec(dataset, cfg):
@@ -90,11 +92,10 @@ def load_dataset(dataset, cfg):
     return dataset
 
 
-def _select_frames(videos, frame_params, verbose, n_jobs=None):
+def _select_frames(videos, frame_params, verbose, n_jobs=None, memory=None):
     params = dict(frame_params)
-    # the cache key keeps the selector's former name, output_size; the selector gets today's
-    params["frame_size"] = params.pop("output_size")
-    selector = ContactFrameSelector(on_no_contact="fallback", n_jobs=n_jobs, **params)
+    params["frame_size"] = params.pop("output_size")  # the parameter's former name, in frame_params
+    selector = ContactFrameSelector(on_no_contact="fallback", n_jobs=n_jobs, memory=memory, **params)
     n = len(videos)
     if n == 0:
         raise ValueError("the dataset has no videos.")
@@ -105,7 +106,7 @@ def _select_frames(videos, frame_params, verbose, n_jobs=None):
         # no-contact fallbacks are reported once, below, not per chunk
         warnings.filterwarnings("ignore", message=".*contact.*")
         n_fallback = 0
-        with tqdm(total=n, desc="contact frames", unit="video", disable=True if not verbose else None) as bar:
+        with progress_bar(total=n, desc="contact frames", unit="video", enabled=bool(verbose)) as bar:
             for start in range(0, n, chunk):
                 idx = np.arange(start, min(n, start + chunk))
                 part = videos[idx] if hasattr(videos, "shape") else [videos[i] for i in idx]
@@ -132,144 +133,45 @@ def _select_frames(videos, frame_params, verbose, n_jobs=None):
     return np.concatenate(out, axis=0)
 
 
-def _features(frames, feature_params):
+def _features(frames, feature_params, memory):
     if feature_params is None:
         return frames
     if feature_params["kind"] == "optical_flow":
         # one pass over every press: its warning (presses padded, tracks lost) comes once, with the counts
-        return OpticalFlowFeatures(n_features=feature_params["n_features"]).fit_transform(frames)
+        return OpticalFlowFeatures(n_features=feature_params["n_features"], memory=memory).fit_transform(frames)
 
-    return DINOv2Features(model=feature_params["model"]).fit_transform(frames)
+    return DINOv2Features(model=feature_params["model"], memory=memory).fit_transform(frames)
 
 
-def _video_inputs(videos, frame_params, feature_params, verbose, n_jobs):
+def _video_inputs(videos, frame_params, feature_params, verbose, n_jobs, memory):
     """One row per press from its video: the contact profile, or selected frames and their features."""
     if frame_params is None and feature_params["kind"] == "contact_geometry":  # whole videos too
         step = ContactGeometryFeatures(max_side=feature_params["max_side"], features=feature_params["features"],
-                                       n_jobs=n_jobs)
+                                       n_jobs=n_jobs, memory=memory)
         return step.fit_transform(videos).astype(np.float32)
     if frame_params is None:  # contact_profile(_nn, _3): features of the whole videos, no frame selection
         step = ContactProfileFeatures(max_side=feature_params["max_side"],
-                                      features=feature_params.get("features", "all"), n_jobs=n_jobs)
+                                      features=feature_params.get("features", "all"), n_jobs=n_jobs, memory=memory)
         return step.fit_transform(videos).astype(np.float32)
-    return _features(_select_frames(videos, frame_params, verbose, n_jobs), feature_params)
+    return _features(_select_frames(videos, frame_params, verbose, n_jobs, memory), feature_params, memory)
 
 
-def _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=None):
-    data = load_dataset(dataset, cfg)
+def _compute(data, frame_params, feature_params, verbose, n_jobs=None, memory=None):
+    """The inputs ``X`` (one row per press) and labels ``y`` of ``data``, its presses' rows read from ``memory``."""
     if feature_params is not None and feature_params["kind"] == "loading_compliance":
         # each press's force and position, no video: the factory's features and log steps (stateless);
         # its imputer and scaler are fitted per run (experiments._models.input_scaler)
         steps = make_named_pipeline("loading_compliance", features=feature_params["features"],
                                     onset=feature_params["onset"],
-                                    drive_compliance=feature_params["drive_compliance"])[:2]
+                                    drive_compliance=feature_params["drive_compliance"], memory=memory)[:2]
         X = steps.fit_transform(force_position(data, ["loading_compliance"])).astype(np.float32)
     else:
         try:
-            X = _video_inputs(data["videos"], frame_params, feature_params, verbose, n_jobs)
+            X = _video_inputs(data["videos"], frame_params, feature_params, verbose, n_jobs, memory)
         except (ValueError, TypeError, OSError) as exc:
             raise_unreadable(data["videos"], exc)  # every video that cannot be read, in one error
             raise
     y = np.asarray(data["target"])
-    return X, y
-
-
-def _code_fingerprint():
-    """Hash of the code that makes the inputs (simulator, reader, selector, features): a change invalidates
-    the cache."""
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    h = hashlib.sha256()
-    for sub in ("datasets", "io", "preprocessing", "features"):
-        folder = os.path.join(root, sub)
-        for name in sorted(os.listdir(folder)):
-            if name.endswith(".py"):
-                with open(os.path.join(folder, name), "rb") as f:
-                    h.update(name.encode() + f.read())
-    return h.hexdigest()[:16]
-
-
-def default_cache_dir():
-    """Where the experiments cache prepared inputs by default.
-
-    Returns
-    -------
-    folder : str
-        ``$SKLEARN_HARDNESS_CACHE`` where set, else ``~/.cache/sklearn_hardness``.
-    """
-    return os.environ.get("SKLEARN_HARDNESS_CACHE") or os.path.join(
-        os.path.expanduser("~"), ".cache", "sklearn_hardness")
-
-
-def clear_cache(folder=None):
-    """Delete the cached inputs (``inputs-*.npz``) in ``folder``.
-
-    Parameters
-    ----------
-    folder : str or path-like, default=None
-        The cache folder; None is :func:`default_cache_dir`. Other files in
-        it are left alone.
-
-    Returns
-    -------
-    removed : list of str
-        The paths removed.
-    """
-    folder = default_cache_dir() if folder is None else os.fspath(folder)
-    if not os.path.isdir(folder):
-        return []
-    removed = []
-    for name in sorted(os.listdir(folder)):
-        if name.startswith(("inputs-", ".inputs-")) and ".npz" in name:
-            os.unlink(os.path.join(folder, name))
-            removed.append(os.path.join(folder, name))
-    return removed
-
-
-def _cache_spec(spec, feature_params=None):
-    """``spec`` for the cache keys: a manifest's also covers the size and mtime of every video it lists,
-    so a video re-recorded in place is prepared again, and for inputs made of force and position
-    (``loading_compliance``) the content of those series."""
-    if spec is None or spec[0] != "manifest":
-        return spec
-
-    data = load_press_videos(spec[1])  # reads the force and position series in full, the videos lazily
-    stamps = []
-    for path in data.paths:
-        st = os.stat(path)
-        stamps.append((os.fspath(path), st.st_size, st.st_mtime_ns))
-    if feature_params is not None and feature_params.get("kind") == "loading_compliance":
-        stamps.append(joblib.hash((data.force, data.position)))
-    return spec + (joblib.hash(stamps),)
-
-
-def _cached_compute(folder, spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs=None):
-    """``_compute`` through an ``.npz`` file keyed by what determines the result.
-
-    Written to a temporary file in the same folder and moved into place with
-    :func:`os.replace` (atomic), so concurrent runs never read a partial file:
-    at worst two processes compute the same inputs and one replaces the other's
-    identical file.
-    """
-    key = joblib.hash((spec, frame_params, feature_params, _code_fingerprint()))
-    path = os.path.join(folder, f"inputs-{key}.npz")
-    if os.path.exists(path):
-        try:
-            with np.load(path, allow_pickle=False) as f:
-                return f["X"], f["y"]
-        except (OSError, ValueError, KeyError):  # unreadable (e.g. disk full when written): recompute
-            pass
-    X, y = _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs)
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=".inputs-", suffix=".npz.tmp", dir=folder)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            np.savez(f, X=X, y=np.asarray(y))
-        os.chmod(tmp, 0o644)  # mkstemp makes it private; the cache is shared like any data file
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
     return X, y
 
 
@@ -307,8 +209,9 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, n_jobs=None):
     model : str or estimator
         A name in :data:`MODEL_NAMES` or an estimator (it gets the selected frames).
     memory : None, False, str or joblib.Memory, default=None
-        Disk cache of the transforms (only for presets and manifests): a
-        folder, None for :func:`default_cache_dir`, False for none.
+        Where each press's rows are cached (the per-press steps' ``memory``):
+        a folder or :class:`joblib.Memory`, None for
+        :func:`~sklearn_hardness.utils.default_cache_dir`, False for none.
     verbose : int, default=1
     n_jobs : int or None, default=None
         Threads that find the contact frames (``ContactFrameSelector``
@@ -327,33 +230,14 @@ def prepare_inputs(dataset, cfg, model, *, memory=None, verbose=1, n_jobs=None):
     spec = _dataset_spec(dataset, cfg)
     frame_params = _frame_params(cfg, model)
     feature_params = _feature_params(cfg, model)
-    data = None
-    if spec is None:
-        data = load_dataset(dataset, cfg)
-        X, y = _compute(None, data, cfg, frame_params, feature_params, verbose, n_jobs)
-    else:
-        key_spec = _cache_spec(spec, feature_params)
-        memo_key = joblib.hash((key_spec, frame_params, feature_params))
-        if memo_key in _MEMO:
-            X, y, data = _MEMO[memo_key]
-        else:
-            if isinstance(memory, joblib.Memory):
-                X, y = memory.cache(_compute, ignore=["dataset", "cfg", "verbose", "n_jobs"])(
-                    key_spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs
-                )
-            elif memory is not False and (feature_params is None or isinstance(
-                    feature_params.get("model", ""), str)):
-                folder = default_cache_dir() if memory is None else os.fspath(memory)
-                X, y = _cached_compute(folder, key_spec, dataset, cfg, frame_params, feature_params, verbose,
-                                       n_jobs)
-            else:
-                X, y = _compute(spec, dataset, cfg, frame_params, feature_params, verbose, n_jobs)
-            data = load_dataset(dataset, cfg)  # lazy videos: metadata only
-            data = dict({k: data.get(k) for k in ("target_names", "hardness", "hardness_unit", "object_id")},
-                        family=_family_column(data))
-            _MEMO[memo_key] = (X, y, data)
-            while len(_MEMO) > _MEMO_MAX:
-                _MEMO.pop(next(iter(_MEMO)))
+    if memory is False:
+        memory = None
+    elif memory is None:
+        memory = joblib.Memory(default_cache_dir(), verbose=0)
+    elif isinstance(memory, os.PathLike):
+        memory = os.fspath(memory)  # a folder; the steps take a str, as a Pipeline's memory
+    data = load_dataset(dataset, cfg)  # a preset's or manifest's videos are lazy: nothing is read yet
+    X, y = _compute(data, frame_params, feature_params, verbose, n_jobs, memory)
     if cfg.get("input_scale") not in (None, "std"):
         raise ValueError(f"input_scale must be 'std' or None, got {cfg.get('input_scale')!r}.")
     y = np.asarray(y)

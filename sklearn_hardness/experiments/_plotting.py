@@ -8,6 +8,7 @@ import textwrap
 import numpy as np
 from scipy.signal import savgol_filter
 
+from ..utils._optional import import_optional
 from ._tables import baseline_table
 
 __all__ = [
@@ -23,7 +24,7 @@ _LABELS = {"accuracy": "accuracy", "mae": "hardness MAE", "entropy": "mean entro
 
 
 def _axes(ax):
-    import matplotlib.pyplot as plt
+    plt = import_optional("matplotlib.pyplot", "plot", "the experiments' figures")
 
     if ax is None:
         fig, ax = plt.subplots(figsize=(4.5, 3.4), layout="constrained")
@@ -153,7 +154,7 @@ def save_figures(result, out_dir, prefix=""):
     ``variance.png``; baselines: ``baselines.png``; dropout sweep:
     ``dropout_accuracy.png``, ``dropout_mae.png``.
     """
-    from matplotlib.figure import Figure  # no pyplot: works without a display
+    Figure = import_optional("matplotlib.figure", "plot", "save_figures").Figure  # no pyplot: no display needed
 
     os.makedirs(out_dir, exist_ok=True)
     experiments = {r["key"].get("experiment") for r in result.records}

@@ -13,6 +13,8 @@
   of the loading phase.
 - :class:`ContactProfileFeatures`: shape- and texture-normalised features of
   a whole press video's loading phase.
+- :class:`PeakContactChange`: the one number of a press, its peak change to
+  the first frame (the input of the one-number baseline).
 - :class:`LoadingCompliance`: the compliance of gel and object from the
   robot's force and position per frame, where they are recorded;
   :class:`ConventionWarning` where most presses break its input's conventions.
@@ -24,6 +26,7 @@ from ._dinov2 import DINOv2Features
 from ._imprint_texture import ImprintTextureFeatures
 from ._loading_compliance import ConventionWarning, LoadingCompliance
 from ._optical_flow import OpticalFlowFeatures
+from ._peak_contact_change import PeakContactChange
 
 __all__ = [
     "ContactGeometryFeatures",
@@ -33,4 +36,5 @@ __all__ = [
     "LoadingCompliance",
     "ConventionWarning",
     "OpticalFlowFeatures",
+    "PeakContactChange",
 ]

@@ -15,7 +15,6 @@ texture, and how they grow against each other.
 from __future__ import annotations
 
 import numbers
-import os
 
 import cv2
 import numpy as np
@@ -25,7 +24,7 @@ from sklearn.utils.validation import check_is_fitted
 from ..utils._feature_names import check_feature_names, feature_columns
 from ..utils._frames import as_float255, check_float_range
 from ..utils._param_validation import HasMethods, Interval, fit_context
-from ..utils._press_cache import press_rows
+from ..utils._per_press import PerPressTransformerMixin, map_presses, transform_presses
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
 from ._loading_moments import _frame_medians, _norm, loading_moments
@@ -283,7 +282,7 @@ def _press_row(video, max_side, noise_factor, sigma, roi, name):
     return _geometry(_small_rgb(video, max_side, roi, name), noise_factor, sigma)
 
 
-class ContactGeometryFeatures(TransformerMixin, BaseEstimator):
+class ContactGeometryFeatures(PerPressTransformerMixin, TransformerMixin, BaseEstimator):
     """The contact's geometry over a press's loading phase, from GelSight shading.
 
     Each video is block-averaged to about ``max_side`` pixels on its long
@@ -353,12 +352,16 @@ class ContactGeometryFeatures(TransformerMixin, BaseEstimator):
         height and width, before averaging.
     n_jobs : int or None, default=None
         Videos processed in parallel (joblib threads).
-    memory : None, str, path-like or joblib.Memory, default=None
-        Cache each press's row here (a folder or a :class:`joblib.Memory`),
-        keyed by the parameters that change it and by the press, so that a
-        later transform of the press (another fold, another run) reads it
-        (how presses are keyed: :func:`~sklearn_hardness.models.make_named_pipeline`).
-        Rows hold every feature: another ``features`` reads them. None: no cache.
+    memory : None, str or object with the joblib.Memory interface, default=None
+        Cache each press's row here (a folder, or a :class:`joblib.Memory`),
+        keyed by the parameters that change it and the press (a video of a
+        lazy sequence by its file or seed, without decoding it; a video in
+        memory by a hash of its frames), so that the folds of a
+        cross-validation, a grid search or a later run that meet the press
+        again read it. Validated as
+        :func:`sklearn.utils.validation.check_memory` validates a
+        :class:`~sklearn.pipeline.Pipeline`'s ``memory``; None: no cache.
+        An entry is the row, every feature whichever ``features`` are output (under 1 kB).
 
     Attributes
     ----------
@@ -404,8 +407,10 @@ class ContactGeometryFeatures(TransformerMixin, BaseEstimator):
         "sigma": [Interval(numbers.Real, 0, None, closed="left")],
         "roi": [None, tuple, list],
         "n_jobs": [numbers.Integral, None],
-        "memory": [None, str, os.PathLike, HasMethods(["cache"])],
+        "memory": [None, str, HasMethods(["cache"])],
     }
+
+    _per_press_ignored = ("memory", "n_jobs", "features")  # every feature is computed and cached
 
     def __init__(self, features="all", max_side=80, noise_factor=4.0, sigma=1.0, roi=None, n_jobs=None, memory=None):
         self.features = features
@@ -455,10 +460,13 @@ class ContactGeometryFeatures(TransformerMixin, BaseEstimator):
         """
         check_is_fitted(self)
         X = check_video_sequence(X)
-        roi = check_roi(self.roi)
-        rows = press_rows(_press_row, X, dict(max_side=self.max_side, noise_factor=self.noise_factor,
-                                              sigma=self.sigma, roi=roi), memory=self.memory, n_jobs=self.n_jobs)
+        rows = transform_presses(self, X)[0]
         return rows[:, feature_columns(self.features_, FEATURE_NAMES)]
+
+    def _transform_presses(self, X):
+        params = dict(max_side=self.max_side, noise_factor=self.noise_factor, sigma=self.sigma,
+                      roi=check_roi(self.roi))
+        return map_presses(_press_row, X, params, n_jobs=self.n_jobs), {}
 
     def get_feature_names_out(self, input_features=None):
         """Names of the features.

@@ -3,17 +3,16 @@
 from __future__ import annotations
 
 import numbers
-import os
 
 import cv2
 import numpy as np
-from sklearn.base import BaseEstimator, TransformerMixin
+from sklearn.base import BaseEstimator, TransformerMixin, clone
 from sklearn.utils.validation import check_is_fitted
 
 from ..utils._feature_names import CONTACT_PROFILE_FEATURE_NAMES, check_feature_names, feature_columns
 from ..utils._frames import as_float255, check_float_range
 from ..utils._param_validation import HasMethods, Interval, StrOptions, fit_context
-from ..utils._press_cache import press_rows
+from ..utils._per_press import PerPressTransformerMixin, map_presses, transform_presses
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
 
@@ -151,7 +150,7 @@ def _profile(video, max_side, noise_factor, roi=None, name="video"):
                      _spread(d_peak)])
 
 
-class ContactProfileFeatures(TransformerMixin, BaseEstimator):
+class ContactProfileFeatures(PerPressTransformerMixin, TransformerMixin, BaseEstimator):
     """Features of a press that normalise away object shape, texture and signal strength.
 
     From the change of each frame to the first frame (grey, strided to about
@@ -203,12 +202,16 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         :func:`~sklearn_hardness.models.make_peak_change_baseline`.
     n_jobs : int or None, default=None
         Videos processed in parallel (joblib threads).
-    memory : None, str, path-like or joblib.Memory, default=None
-        Cache each press's row here (a folder or a :class:`joblib.Memory`),
-        keyed by the parameters that change it and by the press, so that a
-        later transform of the press (another fold, another run) reads it
-        (how presses are keyed: :func:`~sklearn_hardness.models.make_named_pipeline`).
-        Every feature is cached, whichever ``features`` are output. None: no cache.
+    memory : None, str or object with the joblib.Memory interface, default=None
+        Cache each press's row here (a folder, or a :class:`joblib.Memory`),
+        keyed by the parameters that change it and the press (a video of a
+        lazy sequence by its file or seed, without decoding it; a video in
+        memory by a hash of its frames), so that the folds of a
+        cross-validation, a grid search or a later run that meet the press
+        again read it. Validated as
+        :func:`sklearn.utils.validation.check_memory` validates a
+        :class:`~sklearn.pipeline.Pipeline`'s ``memory``; None: no cache.
+        An entry is the row, every feature whichever ``features`` are output (under 1 kB).
 
     Attributes
     ----------
@@ -256,8 +259,10 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         "noise_factor": [Interval(numbers.Real, 0, None, closed="neither")],
         "roi": [None, tuple, list],
         "n_jobs": [numbers.Integral, None],
-        "memory": [None, str, os.PathLike, HasMethods(["cache"])],
+        "memory": [None, str, HasMethods(["cache"])],
     }
+
+    _per_press_ignored = ("memory", "n_jobs", "features")  # every feature is computed and cached
 
     def __init__(self, features="all", max_side=80, noise_factor=3.0, roi=None, n_jobs=None, memory=None):
         self.features = features
@@ -302,10 +307,22 @@ class ContactProfileFeatures(TransformerMixin, BaseEstimator):
         """
         check_is_fitted(self)
         X = check_video_sequence(X)
-        roi = check_roi(self.roi)
-        rows = press_rows(_profile, X, dict(max_side=self.max_side, noise_factor=self.noise_factor, roi=roi),
-                          memory=self.memory, n_jobs=self.n_jobs)
+        rows = transform_presses(self, X)[0]
         return rows[:, feature_columns(self.features_, FEATURE_NAMES)]
+
+    def _transform_presses(self, X):
+        params = dict(max_side=self.max_side, noise_factor=self.noise_factor, roi=check_roi(self.roi))
+        return map_presses(_profile, X, params, n_jobs=self.n_jobs), {}
+
+    def _shared_pass(self):
+        """All twelve features: steps that differ only in ``features`` share one pass, each taking its columns."""
+        if isinstance(self.features, str):
+            return None
+        try:
+            columns = feature_columns(self.features, FEATURE_NAMES)
+        except (TypeError, ValueError):  # its own fit refuses it: the pass fails as the step would
+            return None
+        return clone(self).set_params(features="all"), columns
 
     def get_feature_names_out(self, input_features=None):
         """Names of the features.

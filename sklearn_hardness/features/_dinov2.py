@@ -14,6 +14,7 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
 from ..utils._param_validation import (
+    HasMethods,
     Interval,
     InvalidParameterError,
     Pair,
@@ -21,6 +22,7 @@ from ..utils._param_validation import (
     ValueRange,
     fit_context,
 )
+from ..utils._per_press import PerPressTransformerMixin, transform_presses
 from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
 from ._common import sample_range
@@ -34,7 +36,7 @@ _IMAGENET_STD = (0.229, 0.224, 0.225)
 _INSTALL_HINT = "pip install 'sklearn-hardness[dinov2]'"
 
 
-class DINOv2Features(TransformerMixin, BaseEstimator):
+class DINOv2Features(PerPressTransformerMixin, TransformerMixin, BaseEstimator):
     """Embeddings of every selected frame by a frozen DINOv2 backbone, concatenated.
 
     Each of the ``k`` frames of a sample is scaled to [0, 1], resized,
@@ -107,6 +109,15 @@ class DINOv2Features(TransformerMixin, BaseEstimator):
     dtype : {"float32", "float16", "bfloat16"} or torch.dtype, default="float32"
         Precision of the backbone's computation (half precision mainly
         pays on a GPU). The output is float32.
+    memory : None, str or object with the joblib.Memory interface, default=None
+        Cache each sample's embeddings here (a folder, or a
+        :class:`joblib.Memory`), keyed by the parameters that change them
+        (the backbone's weights included) and a hash of the sample's frames,
+        so that a later fit or transform on the same frames embeds none of
+        them again (the backbone is still loaded in :meth:`fit`). Validated
+        as :func:`sklearn.utils.validation.check_memory` validates a
+        :class:`~sklearn.pipeline.Pipeline`'s ``memory``. An entry holds the
+        row: ``4 n_features_out_`` bytes (6 kB for 4 frames of DINOv2-S).
 
     Attributes
     ----------
@@ -167,7 +178,11 @@ class DINOv2Features(TransformerMixin, BaseEstimator):
         "value_range": [None, ValueRange()],
         "local_files_only": ["boolean"],
         "dtype": [StrOptions(set(_DTYPES)), torch.dtype],
+        "memory": [None, str, HasMethods(["cache"])],
     }
+
+    _per_press_input = "frames"
+    _per_press_ignored = ("memory", "batch_size")
 
     def __init__(
         self,
@@ -180,6 +195,7 @@ class DINOv2Features(TransformerMixin, BaseEstimator):
         value_range=None,
         local_files_only=False,
         dtype="float32",
+        memory=None,
     ):
         self.model = model
         self.token = token
@@ -189,6 +205,7 @@ class DINOv2Features(TransformerMixin, BaseEstimator):
         self.value_range = value_range
         self.local_files_only = local_files_only
         self.dtype = dtype
+        self.memory = memory
 
     # --------------------------------------------------------------- sklearn API
     @fit_context(prefer_skip_nested_validation=True)
@@ -247,6 +264,9 @@ class DINOv2Features(TransformerMixin, BaseEstimator):
         """
         check_is_fitted(self)
         X = check_frames_array(X, name="X", n_frames=self.n_frames_in_, frame_shape=self.frame_shape_in_)
+        return transform_presses(self, X)[0]
+
+    def _transform_presses(self, X):
         n, k = X.shape[:2]
         lo, hi = sample_range(X, self.value_range)
         frames = X.reshape((n * k,) + X.shape[2:])
@@ -258,7 +278,7 @@ class DINOv2Features(TransformerMixin, BaseEstimator):
             s = sample_of[start:stop]
             batch = self._preprocess(frames[start:stop], lo[s], hi[s])
             out[start:stop] = self._embed(batch).float().cpu().numpy()
-        return out.reshape(n, -1)
+        return out.reshape(n, -1), {}
 
     def get_feature_names_out(self, input_features=None):
         """Names of the output columns, e.g. ``"f0_cls0"``, ``"f2_mean31"``.

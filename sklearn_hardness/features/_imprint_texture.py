@@ -16,17 +16,16 @@ from __future__ import annotations
 
 import functools
 import numbers
-import os
 
 import cv2
 import numpy as np
-from skimage.feature import graycomatrix, graycoprops, local_binary_pattern
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
 from ..utils._feature_names import check_feature_names
+from ..utils._optional import import_optional
 from ..utils._param_validation import HasMethods, Interval, StrOptions, fit_context
-from ..utils._press_cache import press_rows
+from ..utils._per_press import PerPressTransformerMixin, map_presses, transform_presses
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video_sequence
 from ._contact_geometry import _block_mean, _checked_roi, _chroma_gradients
@@ -49,6 +48,11 @@ _MIN_CONTACT = 50  # pixels: a smaller contact mask is taken as no contact (the 
 _MASK_SIGMA = 2.0  # pixels: the magnitude is smoothed before thresholding, so the mask is not speckled
 _CURVE_SIDE = 80  # the moments are found at ContactGeometryFeatures' default resolution
 _TINY = 1e-12
+
+
+def _skimage():
+    """scikit-image's ``feature`` module: an optional dependency (``pip install "sklearn-hardness[texture]"``)."""
+    return import_optional("skimage.feature", "texture", "ImprintTextureFeatures")
 
 
 def _descriptor_names(descriptor):
@@ -95,7 +99,7 @@ def _lbp(levels, region):
         return np.concatenate([np.full(p + 2, 1.0 / (p + 2)) for p, _ in _LBP_POINTS])
     out = []
     for p, r in _LBP_POINTS:
-        codes = local_binary_pattern(levels, p, r, method="uniform")[region].astype(np.intp)
+        codes = _skimage().local_binary_pattern(levels, p, r, method="uniform")[region].astype(np.intp)
         out.append(np.bincount(codes, minlength=p + 2)[: p + 2] / codes.size)
     return np.concatenate(out)
 
@@ -103,8 +107,9 @@ def _lbp(levels, region):
 def _glcm(levels):
     """Co-occurrence contrast, dissimilarity, homogeneity, energy and correlation at four distances, mean of four
     angles."""
-    matrix = graycomatrix(levels, _GLCM_DISTANCES, _ANGLES, levels=_LEVELS, symmetric=True, normed=True)
-    return np.concatenate([graycoprops(matrix, prop).mean(axis=1) for prop in _GLCM_PROPS])
+    feature = _skimage()
+    matrix = feature.graycomatrix(levels, _GLCM_DISTANCES, _ANGLES, levels=_LEVELS, symmetric=True, normed=True)
+    return np.concatenate([feature.graycoprops(matrix, prop).mean(axis=1) for prop in _GLCM_PROPS])
 
 
 @functools.cache
@@ -229,7 +234,7 @@ def _feature_names(moments, descriptors):
     return [f"{_moment_name(q)}_{name}" for q in moments for d in descriptors for name in _descriptor_names(d)]
 
 
-class ImprintTextureFeatures(TransformerMixin, BaseEstimator):
+class ImprintTextureFeatures(PerPressTransformerMixin, TransformerMixin, BaseEstimator):
     """The texture of the imprint a press leaves in the gel, at moments of its loading phase.
 
     Each video is compared with the mean of its pre-contact frames at the
@@ -295,12 +300,16 @@ class ImprintTextureFeatures(TransformerMixin, BaseEstimator):
         height and width, before averaging.
     n_jobs : int or None, default=None
         Videos processed in parallel (joblib threads).
-    memory : None, str, path-like or joblib.Memory, default=None
-        Cache each press's row here (a folder or a :class:`joblib.Memory`),
-        keyed by the parameters that change it and by the press, so that a
-        later transform of the press (another fold, another run) reads it
-        (how presses are keyed: :func:`~sklearn_hardness.models.make_named_pipeline`).
-        None: compute every row.
+    memory : None, str or object with the joblib.Memory interface, default=None
+        Cache each press's row here (a folder, or a :class:`joblib.Memory`),
+        keyed by the parameters that change it and the press (a video of a
+        lazy sequence by its file or seed, without decoding it; a video in
+        memory by a hash of its frames), so that the folds of a
+        cross-validation, a grid search or a later run that meet the press
+        again read it. Validated as
+        :func:`sklearn.utils.validation.check_memory` validates a
+        :class:`~sklearn.pipeline.Pipeline`'s ``memory``; None: no cache.
+        An entry is the row, ``8 n_features_out_`` bytes (a few kB).
 
     Attributes
     ----------
@@ -358,7 +367,7 @@ class ImprintTextureFeatures(TransformerMixin, BaseEstimator):
         "noise_factor": [Interval(numbers.Real, 0, None, closed="neither")],
         "roi": [None, tuple, list],
         "n_jobs": [numbers.Integral, None],
-        "memory": [None, str, os.PathLike, HasMethods(["cache"])],
+        "memory": [None, str, HasMethods(["cache"])],
     }
 
     def __init__(self, descriptors="all", moments=(0.5, 1.0), max_side=160, noise_factor=3.0, roi=None,
@@ -385,6 +394,7 @@ class ImprintTextureFeatures(TransformerMixin, BaseEstimator):
         -------
         self : ImprintTextureFeatures
         """
+        _skimage()  # the local binary patterns and co-occurrence need it: say so before any press is read
         self.descriptors_ = check_feature_names(self.descriptors, DESCRIPTORS, param="descriptors")
         self.moments_ = _check_moments(self.moments)
         check_roi(self.roi)
@@ -407,11 +417,12 @@ class ImprintTextureFeatures(TransformerMixin, BaseEstimator):
         """
         check_is_fitted(self)
         X = check_video_sequence(X)
-        roi = check_roi(self.roi)
-        rows = press_rows(_press_row, X, dict(moments=self.moments_, descriptors=self.descriptors_,
-                                              max_side=self.max_side, noise_factor=self.noise_factor, roi=roi),
-                          memory=self.memory, n_jobs=self.n_jobs)
-        return rows.astype(np.float64, copy=False)
+        return transform_presses(self, X)[0].astype(np.float64, copy=False)
+
+    def _transform_presses(self, X):
+        params = dict(moments=self.moments_, descriptors=self.descriptors_, max_side=self.max_side,
+                      noise_factor=self.noise_factor, roi=check_roi(self.roi))
+        return map_presses(_press_row, X, params, n_jobs=self.n_jobs), {}
 
     def get_feature_names_out(self, input_features=None):
         """Names of the features: the moment's name, then the descriptor's column (``"peak_lbp8_3"``).

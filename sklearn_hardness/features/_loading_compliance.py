@@ -10,7 +10,8 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
 from ..utils._feature_names import check_feature_names, feature_columns
-from ..utils._param_validation import Interval, StrOptions, fit_context
+from ..utils._param_validation import HasMethods, Interval, StrOptions, fit_context
+from ..utils._per_press import PerPressTransformerMixin, transform_presses
 from ..utils._tags import force_position_tags
 from ..utils._validation import check_force_position
 from ..utils._warnings import external_stacklevel
@@ -55,35 +56,38 @@ def _listed(indices):
     return ", ".join(map(str, indices[:10])) + (", ..." if len(indices) > 10 else "")
 
 
-def _warn_on_conventions(presses, hertz):
-    """Warn where most presses break the input's conventions (force positive, position in mm growing inwards).
+def _force_negative(press):
+    """Whether a press's force is mostly below zero (a compressive force recorded with the wrong sign)."""
+    return bool(-press[:, 0].min() > 3 * max(press[:, 0].max(), 0.0))
 
-    Each check counts presses, and warns where more than half of them break
+
+def _convention_messages(force_negative, hertz):
+    """What most presses break of the input's conventions (force positive, position in mm growing inwards).
+
+    Each check counts presses, and speaks where more than half of them break
     it: one rigid object can fit a compliance of zero or below, or a press
     without contact be noise around zero, but a whole recording with a
     flipped sign or another unit is an input to fix.
     """
-    half = len(presses) / 2
-    negative = [i for i, p in enumerate(presses) if -p[:, 0].min() > 3 * max(p[:, 0].max(), 0.0)]
+    n = len(hertz)
+    half, messages = n / 2, []
+    negative = np.flatnonzero(force_negative)
     if len(negative) > half:
-        warnings.warn(
-            f"{len(negative)} of {len(presses)} presses (X[{_listed(negative)}]) have their force mostly below "
-            "zero: a compressive force must be positive (negate it).", ConventionWarning,
-            stacklevel=external_stacklevel())
+        messages.append(f"{len(negative)} of {n} presses (X[{_listed(negative)}]) have their force mostly below "
+                        "zero: a compressive force must be positive (negate it).")
     falling = np.flatnonzero(hertz <= 0.0)
     if len(falling) > half:
-        warnings.warn(
-            f"on {len(falling)} of {len(presses)} presses (X[{_listed(falling)}]) the position falls as the force "
-            "rises: the position must grow as the sensor moves into the object (a gripper's closing, not its "
-            "width; negate a position that falls).", ConventionWarning, stacklevel=external_stacklevel())
+        messages.append(f"on {len(falling)} of {n} presses (X[{_listed(falling)}]) the position falls as the force "
+                        "rises: the position must grow as the sensor moves into the object (a gripper's closing, "
+                        "not its width; negate a position that falls).")
     tiny = np.flatnonzero((hertz > 0.0) & (hertz < 1e-3))
     if len(tiny) > half:
-        warnings.warn(
-            f"{len(tiny)} of {len(presses)} presses (X[{_listed(tiny)}]) move under a micrometre per N^(2/3): "
-            "is the position in metres? It must be in mm.", ConventionWarning, stacklevel=external_stacklevel())
+        messages.append(f"{len(tiny)} of {n} presses (X[{_listed(tiny)}]) move under a micrometre per N^(2/3): "
+                        "is the position in metres? It must be in mm.")
+    return messages
 
 
-class LoadingCompliance(TransformerMixin, BaseEstimator):
+class LoadingCompliance(PerPressTransformerMixin, TransformerMixin, BaseEstimator):
     """How far the sensor moves into the object per unit force while it loads.
 
     For a robot (or gripper) that records its force and position at each
@@ -132,6 +136,13 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
         its stiffness: 1.0 mm/N at 1000 N/m). Left in, the drive's give grows
         linearly with force and the Hertz compliance no longer carries across
         forces.
+    memory : None, str or object with the joblib.Memory interface, default=None
+        Cache each press's figures here (a folder, or a
+        :class:`joblib.Memory`), keyed by the parameters that change them and
+        a hash of the press's force and position. Validated as
+        :func:`sklearn.utils.validation.check_memory` validates a
+        :class:`~sklearn.pipeline.Pipeline`'s ``memory``. An entry is under
+        1 kB.
 
     Attributes
     ----------
@@ -175,13 +186,18 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
         "onset": [Interval(numbers.Real, 0, 1, closed="neither")],
         "min_loading_frames": [Interval(numbers.Integral, 2, None, closed="left")],
         "drive_compliance": [Interval(numbers.Real, 0, None, closed="left")],
+        "memory": [None, str, HasMethods(["cache"])],
     }
 
-    def __init__(self, features="all", onset=0.1, min_loading_frames=3, drive_compliance=0.0):
+    _per_press_input = "force_position"
+    _per_press_ignored = ("memory", "features")  # every figure is computed and cached
+
+    def __init__(self, features="all", onset=0.1, min_loading_frames=3, drive_compliance=0.0, memory=None):
         self.features = features
         self.onset = onset
         self.min_loading_frames = min_loading_frames
         self.drive_compliance = drive_compliance
+        self.memory = memory
 
     @fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
@@ -215,19 +231,39 @@ class LoadingCompliance(TransformerMixin, BaseEstimator):
         figures : ndarray of shape (n_presses, n_features_out_), float64
             NaN where a press's loading phase is too short (with a warning).
         """
+        return self._transform_and_info(X)[0]
+
+    def _transform_and_info(self, X):
         check_is_fitted(self)
         presses = check_force_position(X)
-        rows = np.vstack([_loading_figures(p, self.onset, self.min_loading_frames, self.drive_compliance)
-                          for p in presses])
+        rows, info = transform_presses(self, presses)
         out = rows[:, feature_columns(self.features_, FEATURE_NAMES)]
-        _warn_on_conventions(presses, rows[:, 0])
+        for message in _convention_messages(info["force_negative"], rows[:, 0]):
+            warnings.warn(message, ConventionWarning, stacklevel=external_stacklevel())
         bad = np.flatnonzero(np.isnan(out).any(axis=1))
         if len(bad):
             warnings.warn(
                 f"{len(bad)} of {len(presses)} presses (X[{_listed(bad)}]) have no positive force or fewer than "
                 f"{self.min_loading_frames} frames from {self.onset:g} of their peak force to the peak; "
                 "their figures are NaN.", UserWarning, stacklevel=external_stacklevel())
-        return out
+        return out, info
+
+    def _transform_presses(self, X):
+        rows = np.vstack([_loading_figures(p, self.onset, self.min_loading_frames, self.drive_compliance)
+                          for p in X])
+        return rows, {"force_negative": np.array([_force_negative(p) for p in X], dtype=bool),
+                      "hertz_compliance": rows[:, 0]}
+
+    def _press_note(self, info, users):
+        """On how many presses a loading phase was found, and what most presses break of the conventions."""
+        hertz = np.asarray(info["hertz_compliance"], dtype=float)
+        n, missing = len(hertz), int(np.isnan(hertz).sum())
+        text = f"loading phase ({', '.join(users)}): found on {n - missing} of {n} presses"
+        if missing:
+            text += (f"; none on {missing} (no positive force, or fewer than {self.min_loading_frames} frames from "
+                     f"{self.onset:g} of the peak force to the peak): their figures are NaN, for an imputer in the "
+                     "pipeline to fill")
+        return "; ".join([text, *_convention_messages(info["force_negative"], hertz)])
 
     def get_feature_names_out(self, input_features=None):
         """Names of the output figures.

@@ -12,7 +12,8 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils import Bunch
 from sklearn.utils.validation import check_is_fitted
 
-from ..utils._param_validation import Interval, Pair, StrOptions, ValueRange, fit_context
+from ..utils._param_validation import HasMethods, Interval, Pair, StrOptions, ValueRange, fit_context
+from ..utils._per_press import PerPressTransformerMixin, transform_presses
 from ..utils._tags import frames_tags
 from ..utils._validation import check_frames_array
 from ..utils._warnings import external_stacklevel
@@ -29,7 +30,7 @@ _FILL_LOST = ("zero", "last")
 _OUTPUTS = ("tracks", "magnitude_quantiles")
 
 
-class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
+class OpticalFlowFeatures(PerPressTransformerMixin, TransformerMixin, BaseEstimator):
     """Displacements of Shi-Tomasi corners tracked by pyramidal Lucas-Kanade.
 
     For every sample (the ``k`` selected frames of one press, as produced by
@@ -104,6 +105,13 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
         Number of joblib workers over samples (``None``: 1 unless in a
         :func:`joblib.parallel_config` context; ``-1``: all cores). Threads
         are preferred, as OpenCV releases the GIL.
+    memory : None, str or object with the joblib.Memory interface, default=None
+        Cache each sample's row here (a folder, or a :class:`joblib.Memory`),
+        keyed by the parameters that change it and a hash of the sample's
+        frames, so that a later fit or transform on the same frames reads it.
+        Validated as :func:`sklearn.utils.validation.check_memory` validates
+        a :class:`~sklearn.pipeline.Pipeline`'s ``memory``. An entry holds
+        the row (``4 n_features_out_`` bytes) and the sample's corner counts.
 
     Attributes
     ----------
@@ -176,6 +184,8 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
     2.0
     """
 
+    _per_press_input = "frames"
+
     _parameter_constraints: dict = {
         "n_features": [Interval(Integral, 1, None, closed="left")],
         "quality_level": [Interval(Real, 0, 1, closed="right")],
@@ -192,6 +202,7 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
         "output": [StrOptions(set(_OUTPUTS))],
         "value_range": [None, ValueRange()],
         "n_jobs": [Integral, None],
+        "memory": [None, str, HasMethods(["cache"])],
     }
 
     def __init__(
@@ -212,6 +223,7 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
         output="tracks",
         value_range=None,
         n_jobs=None,
+        memory=None,
     ):
         self.n_features = n_features
         self.quality_level = quality_level
@@ -228,6 +240,7 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
         self.output = output
         self.value_range = value_range
         self.n_jobs = n_jobs
+        self.memory = memory
 
     # --------------------------------------------------------------- sklearn API
     @fit_context(prefer_skip_nested_validation=True)
@@ -324,10 +337,21 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
             If some samples have fewer corners than ``n_features`` (padded
             with zeros) or tracks were lost.
         """
-        return self._rows_of(self.track(X))
+        return self._transform_and_info(X)[0]
+
+    def _transform_and_info(self, X):
+        check_is_fitted(self)
+        X = _check_X(X, n_frames=self.n_frames_in_, frame_shape=self.frame_shape_in_)
+        out, info = transform_presses(self, X)
+        self._warn_tracks(info["n_corners"], info["n_lost"])
+        return out, info
+
+    def _transform_presses(self, X):
+        tracks = self.track(X)
+        return self._rows_of(tracks), {"n_corners": tracks.n_corners, "n_lost": tracks.n_lost}
 
     def _rows_of(self, tr):
-        """:meth:`transform`'s rows from :meth:`track`'s result ``tr`` (warns as it does)."""
+        """:meth:`transform`'s rows from :meth:`track`'s result ``tr``."""
         n, m, k = tr.valid.shape
         points, valid = tr.points, tr.valid
         # Displacement relative to the first frame, zeros where not valid.
@@ -342,9 +366,7 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
             # valid in every frame before one where it is valid).
             disp = np.where(valid[..., None], disp, np.float32(0.0))
         if self.output == "magnitude_quantiles":
-            out = _magnitude_quantiles(disp[:, :, 1:], valid[:, :, 0])
-            self._warn_tracks(tr)
-            return out
+            return _magnitude_quantiles(disp[:, :, 1:], valid[:, :, 0])
         blocks = []
         if self.include_positions:
             blocks.append(points[:, :, 0, :])  # zero for padded corners
@@ -352,28 +374,27 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
         if self.include_valid:
             steps = np.concatenate([steps, valid[:, :, 1:, None].astype(np.float32)], axis=-1)
         blocks.append(steps.reshape(n, m, -1))
-        out = np.concatenate(blocks, axis=-1).reshape(n, -1).astype(np.float32, copy=False)
-        self._warn_tracks(tr)
-        return out
+        return np.concatenate(blocks, axis=-1).reshape(n, -1).astype(np.float32, copy=False)
 
-    def _warn_tracks(self, tr):
-        """Warn about the padded samples and lost tracks of :meth:`track`'s result ``tr``."""
-        n, m, _ = tr.valid.shape
-        n_padded = int(np.sum(tr.n_corners < m))
-        n_lost = int(tr.n_lost.sum())
+    def _warn_tracks(self, n_corners, n_lost):
+        """Warn about the padded samples and lost tracks (corners found and tracks lost per sample)."""
+        n_corners, n_lost = np.asarray(n_corners), np.asarray(n_lost)
+        n, m = len(n_corners), int(self.n_features)
+        n_padded = int(np.sum(n_corners < m))
+        lost = int(n_lost.sum())
         tracks = self.output == "tracks"
-        if n_padded or n_lost:
+        if n_padded or lost:
             parts = []
             if n_padded:
                 parts.append(
                     f"{n_padded} of {n} sample(s) had fewer than n_features={m} corners "
-                    f"(fewest: {int(tr.n_corners.min())}); "
+                    f"(fewest: {int(n_corners.min())}); "
                     + ("the missing corners are padded with zeros" if tracks
                        else "the quantiles are taken over the corners found")
                 )
-            if n_lost:
+            if lost:
                 parts.append(
-                    f"{n_lost} of {int(tr.n_corners.sum())} track(s) were lost before the last frame; "
+                    f"{lost} of {int(n_corners.sum())} track(s) were lost before the last frame; "
                     f"fill_lost={self.fill_lost!r} applies"
                 )
             warnings.warn(
@@ -383,6 +404,20 @@ class OpticalFlowFeatures(TransformerMixin, BaseEstimator):
                 UserWarning,
                 stacklevel=external_stacklevel(),
             )
+
+    def _press_note(self, info, users):
+        """Corners per press, presses without any, tracks lost (the folds' warnings say it per fold)."""
+        corners, lost = np.asarray(info["n_corners"]), np.asarray(info["n_lost"])
+        text = (f"optical flow ({', '.join(users)}): corners in a press's first frame {int(np.median(corners))} "
+                f"(median; fewest {int(corners.min())}, most {int(corners.max())}, at most "
+                f"n_features={int(self.n_features)})")
+        none = int(np.sum(corners == 0))
+        if none:
+            text += f"; none on {none} of {len(corners)} presses: their rows are those of a press without motion"
+        if corners.sum():
+            text += (f"; {lost.sum() / corners.sum():.0%} of the tracks lost before the last frame "
+                     f"(on {int(np.sum(lost > 0))} of {len(corners)} presses)")
+        return text
 
     def get_feature_names_out(self, input_features=None):
         """Names of the output columns, e.g. ``"c0_t1_dx"``.

@@ -1,9 +1,10 @@
 """Model selection on new objects: group-disjoint cross-validation with corrected intervals.
 
-* :func:`evaluate_pipelines`: cross-validation of several pipelines on the
-  same folds, grouped by object (no test object is seen in training), each
-  beside the one-number baseline, its margin paired by fold, and the
-  pipeline to choose; an :class:`EvaluationResult`.
+* :func:`evaluate_pipelines`: :func:`~sklearn.model_selection.cross_validate`
+  for several pipelines on the same folds, grouped by object (no test object
+  is seen in training), each beside the one-number baseline; an
+  :class:`EvaluationResult`, whose ``cv_results_`` give each fold and whose
+  ``summary`` the margins paired by fold and the pipeline to choose.
 * :class:`RepeatedStratifiedGroupKFold`: the folds an integer ``cv`` stands for.
 * :func:`corrected_interval`: the t-interval of fold scores (or of a paired
   difference) corrected for the folds' overlapping training sets.
@@ -11,12 +12,12 @@
   text and as a figure.
 """
 
-from ._evaluate import evaluate_pipelines
 from ._intervals import corrected_interval
 from ._plot import ConfusionMatricesDisplay
 from ._report import format_evaluation
-from ._result import EvaluationResult, SummaryTable
+from ._result import EvaluationResult
 from ._split import RepeatedStratifiedGroupKFold
+from ._validation import evaluate_pipelines
 
-__all__ = ["evaluate_pipelines", "EvaluationResult", "SummaryTable", "RepeatedStratifiedGroupKFold",
-           "corrected_interval", "format_evaluation", "ConfusionMatricesDisplay"]
+__all__ = ["evaluate_pipelines", "EvaluationResult", "RepeatedStratifiedGroupKFold", "corrected_interval",
+           "format_evaluation", "ConfusionMatricesDisplay"]

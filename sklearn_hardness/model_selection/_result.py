@@ -1,130 +1,190 @@
-"""What :func:`~sklearn_hardness.model_selection.evaluate_pipelines` returns: a small result object."""
+"""What :func:`~sklearn_hardness.model_selection.evaluate_pipelines` returns: its ``cv_results_`` and what they say."""
 
 from __future__ import annotations
 
-__all__ = ["EvaluationResult", "SummaryTable"]
+import numpy as np
 
-_INTERVALS = ("balanced_accuracy", "vs_baseline", "mae", "object_balanced_accuracy", "object_vs_baseline")
-
-
-class SummaryTable(dict):
-    """One row per pipeline, as a dict of columns (name -> list), without needing pandas.
-
-    Columns: ``pipeline``; ``balanced_accuracy``, ``vs_baseline`` (margin
-    over the baseline, paired by fold), ``mae``,
-    ``object_balanced_accuracy`` and ``object_vs_baseline``, each with its
-    interval's ``*_low`` and ``*_high``; ``fit_predict_seconds``,
-    ``predict_proba_samples`` and ``error``. :meth:`to_frame` gives a
-    :class:`pandas.DataFrame` where pandas is installed.
-    """
-
-    @classmethod
-    def from_rows(cls, rows):
-        """The columns of ``rows`` (the result's ``table``)."""
-        columns = {"pipeline": [r["pipeline"] for r in rows]}
-        for key in _INTERVALS:
-            columns[key] = [r[key] for r in rows]
-            ci = [r[f"{key}_ci"] or (None, None) for r in rows]
-            columns[f"{key}_low"], columns[f"{key}_high"] = [c[0] for c in ci], [c[1] for c in ci]
-        for key in ("fit_predict_seconds", "predict_proba_samples", "error"):
-            columns[key] = [r[key] for r in rows]
-        return cls(columns)
-
-    def to_frame(self):
-        """The table as a :class:`pandas.DataFrame` indexed by pipeline (needs pandas).
-
-        Returns
-        -------
-        frame : pandas.DataFrame
-        """
-        import pandas as pd
-
-        return pd.DataFrame(self).set_index("pipeline")
-
-    def __str__(self):
-        cells = {k: ["-" if v is None else f"{v:.3f}" if isinstance(v, float) else str(v) for v in col]
-                 for k, col in self.items()}
-        widths = {k: max([len(k)] + [len(c) for c in col]) for k, col in cells.items()}
-        lines = ["  ".join(f"{k:<{widths[k]}}" for k in cells)]
-        lines += ["  ".join(f"{cells[k][i]:<{widths[k]}}" for k in cells) for i in range(len(self["pipeline"]))]
-        return "\n".join(line.rstrip() for line in lines)
+__all__ = ["EvaluationResult"]
 
 
 class EvaluationResult:
     """The result of :func:`~sklearn_hardness.model_selection.evaluate_pipelines`.
 
-    ``str(result)`` is its text report
-    (:func:`~sklearn_hardness.model_selection.format_evaluation`);
+    One format: :attr:`cv_results_`, a dict of arrays with one entry per
+    (pipeline, fold), as :func:`sklearn.model_selection.cross_validate`
+    gives for one estimator, that :class:`pandas.DataFrame` takes as is.
+    Everything else is derived from it: :attr:`summary` (one row per
+    pipeline: means, intervals, margins over the baseline),
+    :attr:`recommended`, :meth:`confusion_matrix`, ``str(result)`` (the text
+    of :func:`~sklearn_hardness.model_selection.format_evaluation`), and
     :meth:`ConfusionMatricesDisplay.from_result
     <sklearn_hardness.model_selection.ConfusionMatricesDisplay.from_result>`
-    draws its confusion matrices.
+    draws it.
 
     Attributes
     ----------
-    summary : SummaryTable
-        One row per pipeline (dict of columns; ``summary.to_frame()`` with
-        pandas).
-    table : list of dict
-        The same rows, one dict per pipeline, intervals as ``*_ci``
-        ``(low, high)`` pairs (None where they do not apply), ``recall``
-        (class name -> out-of-fold recall), ``n_folds`` (folds a
-        repetition) and ``n_repeats``.
-    fold_scores, object_fold_scores : dict of str to ndarray of shape (n_folds,)
-        Balanced accuracy per fold, per press and per test object.
-    differences : dict of str to ndarray of shape (n_folds,)
-        Each pipeline's fold scores minus the baseline's (not for the
-        baseline itself; empty without one).
-    predictions : dict of str to ndarray of shape (n_samples,)
-        Out-of-fold predictions of the first repetition (-1 where a press
-        was not tested, or its fold failed).
-    confusion : dict of str to ndarray of shape (n_classes, n_classes)
-        Confusion matrix of the out-of-fold predictions of all folds.
-    recommended, recommended_with_samples : str or None
-        The best pipeline whose margin's interval lies above 0 (among those
-        with ``predict_proba_samples``); None when none does.
+    cv_results_ : dict of str to ndarray
+        One entry per (pipeline, fold), pipeline by pipeline, folds in the
+        splitter's order: ``pipeline`` (its name), ``split`` (the fold's
+        index), ``repeat`` (its repetition), ``fit_time`` and
+        ``score_time`` (seconds), ``per_press_time`` (the pipeline's
+        once-per-run pass of its per-press steps, shared out equally over
+        its folds), ``test_<name>`` per scorer (``test_score`` for a single
+        one; by default ``test_balanced_accuracy``,
+        ``test_object_balanced_accuracy`` and, with ``hardness``,
+        ``test_neg_hardness_mae``), ``train_<name>`` with
+        ``return_train_score``, ``train_indices`` and ``test_indices`` (the
+        fold's presses), ``test_predictions`` (the predicted class indices
+        of its test presses, None where the fit failed), ``error`` (None, or
+        the failure's type and message) and, with ``return_estimator``,
+        ``estimator`` (the fold's fitted pipeline).
+    estimators : dict of str to estimator
+        The pipelines evaluated, by name, unfitted (the baseline first).
     baseline : str or None
         Name of the baseline pipeline.
     notes : list of str
-        What the per-press steps found that the folds' warnings would say.
+        What the per-press steps found on the presses that the folds'
+        warnings would say (contact found, corners tracked, loading phases),
+        and the presses on which they failed.
     target, target_names : ndarray
-        Labels and class names.
+        Labels (class indices) and class names.
     groups : ndarray
         The group of each press that no fold splits (``groups`` of
         :func:`evaluate_pipelines`: the object, or e.g. its family).
     objects : ndarray
-        The object of each press, by which the per-object figures pool
+        The object of each press, by which the per-object scores pool
         presses (``objects``, else ``groups``).
-    folds : list of ndarray
-        The test indices of every fold.
+    n_splits : int
+        Folds a repetition.
     n_repeats : int
         Repetitions of the splitter's folds.
-    chance : float
-        ``1 / n_classes``.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> from sklearn.model_selection import GroupKFold
+    >>> from sklearn_hardness.datasets import make_presses
+    >>> from sklearn_hardness.model_selection import evaluate_pipelines
+    >>> data = make_presses("everyday", n_per_class=2, n_objects=9, class_ratio=[1, 1, 1],
+    ...                     image_size=(32, 40), codec=None, random_state=0)
+    >>> result = evaluate_pipelines(["contact_profile"], data.videos, data.target, groups=data.object_id,
+    ...                             cv=GroupKFold(3), target_names=data.target_names)
+    >>> frame = pd.DataFrame(result.cv_results_)
+    >>> frame.groupby("pipeline", sort=False)["test_balanced_accuracy"].size().to_dict()
+    {'peak_change': 3, 'contact_profile': 3}
+    >>> int(result.confusion_matrix("contact_profile").sum())
+    18
     """
 
-    def __init__(self, *, table, fold_scores, object_fold_scores, predictions, confusion, recommended,
-                 recommended_with_samples, baseline, notes, target, target_names, groups, folds, n_repeats,
-                 objects=None):
-        self.table = table
-        self.summary = SummaryTable.from_rows(table)
-        self.fold_scores = fold_scores
-        self.object_fold_scores = object_fold_scores
-        base = fold_scores.get(baseline) if baseline is not None else None
-        self.differences = {} if base is None else {name: scores - base for name, scores in fold_scores.items()
-                                                    if name != baseline}
-        self.predictions = predictions
-        self.confusion = confusion
-        self.recommended = recommended
-        self.recommended_with_samples = recommended_with_samples
+    def __init__(self, *, cv_results_, estimators, baseline, notes, target, target_names, groups, objects, n_splits,
+                 n_repeats):
+        self.cv_results_ = cv_results_
+        self.estimators = estimators
         self.baseline = baseline
         self.notes = notes
         self.target = target
         self.target_names = target_names
         self.groups = groups
-        self.objects = groups if objects is None else objects
-        self.folds = folds
+        self.objects = objects
+        self.n_splits = n_splits
         self.n_repeats = n_repeats
-        self.chance = 1.0 / len(target_names)
+
+    @property
+    def pipelines(self):
+        """The names of the pipelines, in :attr:`cv_results_`' order (the baseline first)."""
+        return list(dict.fromkeys(self.cv_results_["pipeline"].tolist()))
+
+    @property
+    def chance(self):
+        """``1 / n_classes``: the balanced accuracy of a guess."""
+        return 1.0 / len(self.target_names)
+
+    @property
+    def summary(self):
+        """One row per pipeline, derived from :attr:`cv_results_` (a dict of columns, for
+        :class:`pandas.DataFrame` too): see :func:`~sklearn_hardness.model_selection._report.summarize`.
+
+        Columns: ``pipeline``; for each score ``NAME``: ``NAME`` (mean over
+        folds), ``NAME_low`` and ``NAME_high`` (its 95% interval corrected
+        for the folds' overlap and clipped to the score's range),
+        ``NAME_vs_baseline`` with ``_low`` and ``_high`` (the margin over the
+        baseline, paired by fold; NaN for the baseline itself); ``time``,
+        ``predict_proba_samples`` and ``error``.
+        """
+        from ._report import summarize
+
+        return summarize(self)
+
+    @property
+    def recommended(self):
+        """The best pipeline whose margin's interval lies above 0, by balanced accuracy; None when none does."""
+        from ._report import recommend
+
+        return recommend(self)[0]
+
+    @property
+    def recommended_with_samples(self):
+        """As :attr:`recommended`, among the pipelines with ``predict_proba_samples`` (for active sampling)."""
+        from ._report import recommend
+
+        return recommend(self)[1]
+
+    def _rows(self, pipeline):
+        if pipeline not in self.pipelines:
+            raise ValueError(f"unknown pipeline {pipeline!r}; the result has {self.pipelines}.")
+        return np.flatnonzero(self.cv_results_["pipeline"] == pipeline)
+
+    def out_of_fold_predictions(self, pipeline, repeat=0):
+        """Each press's predicted class index in the fold that tested it, in repetition ``repeat``.
+
+        Parameters
+        ----------
+        pipeline : str
+        repeat : int, default=0
+
+        Returns
+        -------
+        predictions : ndarray of shape (n_presses,)
+            -1 where a press was not tested in that repetition, or its fold
+            failed.
+        """
+        out = np.full(len(self.target), -1)
+        for i in self._rows(pipeline):
+            pred = self.cv_results_["test_predictions"][i]
+            if self.cv_results_["repeat"][i] == repeat and pred is not None:
+                out[self.cv_results_["test_indices"][i]] = pred
+        return out
+
+    def confusion_matrix(self, pipeline, *, normalize=None):
+        """The confusion matrix of ``pipeline``'s out-of-fold predictions, over every fold of every repetition.
+
+        Parameters
+        ----------
+        pipeline : str
+        normalize : {"true", "pred", "all"} or None, default=None
+            As :func:`sklearn.metrics.confusion_matrix`: over the true
+            classes (rows), the predicted ones (columns), all presses, or
+            counts.
+
+        Returns
+        -------
+        confusion : ndarray of shape (n_classes, n_classes)
+            True class per row.
+        """
+        from sklearn.metrics import confusion_matrix
+
+        true, pred = [], []
+        for i in self._rows(pipeline):
+            fold_pred = self.cv_results_["test_predictions"][i]
+            if fold_pred is not None:
+                true.append(self.target[self.cv_results_["test_indices"][i]])
+                pred.append(fold_pred)
+        n_classes = len(self.target_names)
+        if not pred:
+            return np.zeros((n_classes, n_classes), dtype=float if normalize else int)
+        with np.errstate(all="ignore"):
+            return confusion_matrix(np.concatenate(true), np.concatenate(pred), labels=np.arange(n_classes),
+                                    normalize=normalize)
 
     def __str__(self):
         from ._report import format_evaluation
@@ -132,5 +192,5 @@ class EvaluationResult:
         return format_evaluation(self)
 
     def __repr__(self):
-        return (f"{type(self).__name__}(pipelines={list(self.fold_scores)}, n_folds={len(self.folds)}, "
+        return (f"{type(self).__name__}(pipelines={self.pipelines}, n_folds={self.n_splits * self.n_repeats}, "
                 f"recommended={self.recommended!r})")

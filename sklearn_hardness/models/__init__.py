@@ -40,7 +40,7 @@ from ._ensemble import EnsembleClassifier
 from ._imprint_cnn import ImprintCNNClassifier
 from ._laplace import LaplaceLogisticRegression
 from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
-from ._peak_change import make_peak_change_baseline, peak_contact_change
+from ._peak_change import make_peak_change_baseline
 from ._pipelines import (
     FrameScaler,
     MCDropoutPipeline,
@@ -60,7 +60,6 @@ __all__ = [
     "pipeline_info",
     "make_named_pipeline",
     "make_peak_change_baseline",
-    "peak_contact_change",
     "make_convlstm_pipeline",
     "make_imprint_cnn_pipeline",
     "make_ofnn_pipeline",

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numbers
 import warnings
+from collections import Counter
 
 import cv2
 import numpy as np
@@ -15,12 +16,14 @@ from sklearn.utils.validation import check_is_fitted
 from ..utils._frames import as_float255
 from ..utils._param_validation import (
     FRAME_SIZE,
+    HasMethods,
     Hidden,
     Interval,
     StrOptions,
     fit_context,
     validate_estimator_params,
 )
+from ..utils._per_press import PerPressTransformerMixin, transform_presses
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
 from ..utils._warnings import external_stacklevel
@@ -32,7 +35,7 @@ class ContactNotFoundWarning(UserWarning):
     """Some videos never reached contact; their frames were chosen by the fallback rule."""
 
 
-class ContactFrameSelector(TransformerMixin, BaseEstimator):
+class ContactFrameSelector(PerPressTransformerMixin, TransformerMixin, BaseEstimator):
     """Select the frames of the loading period of each press (paper Sec. II-A).
 
     For each video, the first frame is subtracted from all frames and the
@@ -122,6 +125,16 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
     n_jobs : int or None, default=None
         Videos processed in parallel (joblib threads; OpenCV and NumPy
         release the GIL). ``None`` means 1, ``-1`` all cores.
+    memory : None, str or object with the joblib.Memory interface, default=None
+        Cache each press's frames and selection here (a folder, or a
+        :class:`joblib.Memory`), keyed by the parameters that change them and
+        the press (a video of a lazy sequence by its file or seed, without
+        decoding it), so that the folds of a cross-validation, a grid search
+        or a later run that meet the press again read them. Validated as
+        :func:`sklearn.utils.validation.check_memory` validates a
+        :class:`~sklearn.pipeline.Pipeline`'s ``memory``. A press's entry
+        holds its ``k`` frames as float32: ``4 k H' W' C`` bytes (12 kB at
+        ``frame_size=(18, 24)``, 3.7 MB for 4 full 240x320 RGB frames).
     output_size : tuple (height, width) or None, default="deprecated"
         The former name of ``frame_size``.
 
@@ -205,6 +218,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         n_baseline=5,
         min_contrast=0.3,
         n_jobs=None,
+        memory=None,
         output_size="deprecated",
     ):
         self.n_between = n_between
@@ -218,6 +232,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         self.n_baseline = n_baseline
         self.min_contrast = min_contrast
         self.n_jobs = n_jobs
+        self.memory = memory
         self.output_size = output_size
 
     _parameter_constraints: dict = {
@@ -233,6 +248,7 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         "n_baseline": [Interval(numbers.Integral, 1, None, closed="left")],
         "min_contrast": [Interval(numbers.Real, 0, None, closed="left")],
         "n_jobs": [numbers.Integral, None],
+        "memory": [None, str, HasMethods(["cache"])],
     }
 
     def _check_sizes(self):
@@ -286,7 +302,9 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         """
         validate_estimator_params(self)  # select may be called without fit
         self._warn_output_size()
-        return self._run(X, extract=False)[1]
+        selection = self._run(X, extract=False)[1]
+        self._check_contacts(selection.status)
+        return selection
 
     def _run(self, X, extract):
         """Select (and with ``extract``, cut out) the frames of every video.
@@ -334,19 +352,24 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         # when joblib.parallel_config(backend="dask"|"loky") is active around the call
         Parallel(n_jobs=self.n_jobs, require="sharedmem")(delayed(one)(i) for i in range(1, n))
         status = np.array([r[4] for r in results], dtype=object)
-        selection = Bunch(
+        selection = _selection(
             indices=np.stack([r[0] for r in results]),
             contact_start=np.array([r[1] for r in results], dtype=int),
             contact_peak=np.array([r[2] for r in results], dtype=int),
             threshold=np.array([r[3] for r in results], dtype=float),
-            contact_found=np.isin(status, ["contact", "weak contact"]),
             status=status.astype(str),
             curves=[r[5] for r in results],
         )
+        return out, selection
+
+    def _check_contacts(self, status):
+        """Warn (or, with ``on_no_contact="raise"``, raise) about the presses without contact, by index."""
+        status = np.asarray(status)
+        n = len(status)
         problems = []
         for what, outcome in [("never reach contact", "no contact"), ("are too short to detect contact "
                               f"(fewer than {_min_frames_auto(self.n_baseline)} frames)", "too short")]:
-            idx = np.flatnonzero(selection.status == outcome)
+            idx = np.flatnonzero(status == outcome)
             if idx.size:
                 more = " ..." if idx.size > 20 else ""
                 problems.append((f"{idx.size} of {n} video(s) {what}", f"X{idx[:20].tolist()}{more}"))
@@ -362,7 +385,6 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
                 ContactNotFoundWarning,
                 stacklevel=external_stacklevel(),
             )
-        return out, selection
 
     def _extract(self, video, indices, name, frame_size):
         """The selected frames of one validated video, scaled, cropped, converted, resized."""
@@ -419,8 +441,12 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
         frames : ndarray of shape (n, n_between + 2, H', W', C'), float32
         """
         self._warn_output_size()
-        out, selection = self._run(X, extract=True)
-        self.selection_ = selection
+        self._check_sizes()
+        check_video_sequence(X)
+        out, info = transform_presses(self, X)
+        self.selection_ = _selection(**info)
+        self._press_info = info
+        self._check_contacts(info["status"])
         self.n_frames_out_ = self.n_between + 2
         self.frame_shape_ = tuple(out.shape[2:])
         return out
@@ -439,14 +465,55 @@ class ContactFrameSelector(TransformerMixin, BaseEstimator):
             Differences to the first frame in [-1, 1] (``subtract_first``)
             or raw frames in [0, 1].
         """
+        return self._transform_and_info(X)[0]
+
+    def _transform_and_info(self, X):
         check_is_fitted(self, "selection_")
-        out, _ = self._run(X, extract=True)
+        self._check_sizes()
+        check_video_sequence(X)
+        out, info = transform_presses(self, X)
+        self._check_contacts(info["status"])
         if tuple(out.shape[2:]) != self.frame_shape_:
             raise ValueError(
                 f"X gives frames of shape {tuple(out.shape[2:])} but the videos seen in fit gave "
                 f"{self.frame_shape_}; set frame_size to make them equal."
             )
-        return out
+        return out, info
+
+    def _transform_presses(self, X):
+        out, selection = self._run(X, extract=True)
+        info = {key: selection[key] for key in _PRESS_INFO}
+        return out, info
+
+    def _press_note(self, info, users):
+        """How many presses the selection found contact on (the folds' warnings say it per fold)."""
+        status = np.asarray(info["status"])
+        n, count = len(status), Counter(status.tolist())  # 0 for a status not found
+        found = count["contact"] + count["weak contact"]
+        text = f"contact ({', '.join(users)}): found on {found} of {n} presses ({count['weak contact']} weak)"
+        missing = [f"{what} {count[what]}" for what in ("no contact", "too short") if count[what]]
+        if missing:
+            text += (f"; {', '.join(missing)}: their frames are spread from the first frame to the frame of "
+                     "largest change (`sklearn-hardness select` lists them)")
+        return text
 
     def __sklearn_tags__(self):
         return videos_tags(super().__sklearn_tags__())
+
+
+#: What the selection keeps of each press, beside its frames (``selection_`` less ``contact_found``).
+_PRESS_INFO = ("indices", "contact_start", "contact_peak", "threshold", "status", "curves")
+
+
+def _selection(indices, contact_start, contact_peak, threshold, status, curves):
+    """The ``selection_`` Bunch of the presses' selections, one entry per press in each field."""
+    status = np.asarray(status).astype(str)
+    return Bunch(
+        indices=np.stack(list(indices)) if len(indices) else np.empty((0, 0), dtype=int),
+        contact_start=np.asarray(contact_start, dtype=int),
+        contact_peak=np.asarray(contact_peak, dtype=int),
+        threshold=np.asarray(threshold, dtype=float),
+        contact_found=np.isin(status, ["contact", "weak contact"]),
+        status=status,
+        curves=list(curves),
+    )

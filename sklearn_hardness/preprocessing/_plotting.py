@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..utils._optional import import_optional
+
 __all__ = ["plot_contact_selection"]
 
 
@@ -28,7 +30,7 @@ def plot_contact_selection(selection, *, labels=None, timestamps=None, ax=None, 
     -------
     fig : matplotlib Figure
     """
-    import matplotlib.pyplot as plt
+    plt = import_optional("matplotlib.pyplot", "plot", "plot_contact_selection")
 
     if hasattr(selection, "selection_"):
         selection = selection.selection_

@@ -1,4 +1,18 @@
-"""Utilities for users' own estimators: :mod:`sklearn_hardness.utils.estimator_checks`, the video versions
-of scikit-learn's common checks. Input validation and random-state helpers are private."""
+"""Utilities: the mark of per-press steps and their cache, and the common checks of estimators.
 
-__all__ = []
+- :class:`PerPressTransformerMixin`: the mark of a transformer that maps
+  each press by itself and learns nothing from the presses in ``fit`` (the
+  package's frame selection, features and peak change carry it). The
+  machinery reads it: ``evaluate_pipelines`` runs such steps once over all
+  presses, and their ``memory`` caches each press's rows. Inherit it to
+  give your own step the same.
+- :func:`clear_cache`, :func:`default_cache_dir`: the one cache of those
+  rows (the steps' ``memory``, the experiments', ``sklearn-hardness
+  reproduce``'s). How much it holds: ``sklearn-hardness cache``.
+- :mod:`sklearn_hardness.utils.estimator_checks`: the common checks of
+  estimators that take press videos or selected frames.
+"""
+
+from ._per_press import PerPressTransformerMixin, clear_cache, default_cache_dir
+
+__all__ = ["PerPressTransformerMixin", "clear_cache", "default_cache_dir"]

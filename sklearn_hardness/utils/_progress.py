@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import time
 
@@ -65,3 +66,26 @@ class ProgressLog:
         if self.verbose:
             stream = sys.stderr if self.stream is None else self.stream
             print(f"{self.desc}: {message}", file=stream, flush=True)
+
+
+class _NoBar:
+    def update(self, n=1):
+        pass
+
+
+@contextlib.contextmanager
+def progress_bar(total, desc, unit, enabled=True):
+    """A :mod:`tqdm` progress bar where tqdm is installed and ``enabled``, else one that shows nothing.
+
+    tqdm is optional (``pip install "sklearn-hardness[progress]"``): without
+    it the computation runs the same, without the bar.
+    """
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:
+        tqdm = None
+    if tqdm is None or not enabled:
+        yield _NoBar()
+        return
+    with tqdm(total=total, desc=desc, unit=unit) as bar:
+        yield bar

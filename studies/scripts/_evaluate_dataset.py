@@ -11,6 +11,8 @@ evaluate`` does), and a failing fit raises (``error_score="raise"``) rather
 than leaving a fold out of a study's figure.
 """
 
+import numpy as np
+
 from sklearn_hardness.model_selection import evaluate_pipelines
 from sklearn_hardness.utils._force_position import force_position, presses_lacking_force_position
 
@@ -42,3 +44,42 @@ def evaluate_dataset(data, estimators=None, *, groups=None, error_score="raise",
                               groups=data.object_id if groups is None else groups,
                               target_names=data.target_names, hardness=getattr(data, "hardness", None),
                               force_position=rows, error_score=error_score, **kwargs)
+
+
+def fold_scores(result, pipeline, score="balanced_accuracy"):
+    """The test ``score`` of ``pipeline`` on each fold, in the folds' order (from ``result.cv_results_``)."""
+    cv = result.cv_results_
+    rows = np.flatnonzero(cv["pipeline"] == pipeline)
+    return np.asarray(cv[f"test_{score}"], dtype=float)[rows[np.argsort(cv["split"][rows], kind="stable")]]
+
+
+def test_folds(result):
+    """The test presses of every fold, in the folds' order."""
+    cv = result.cv_results_
+    return list(cv["test_indices"][cv["pipeline"] == result.pipelines[0]])
+
+
+def table_rows(result):
+    """``{pipeline: row}`` of ``result.summary`` in the studies' printed layout: ``balanced_accuracy`` and its
+    ``balanced_accuracy_ci``, ``vs_baseline`` (None for the baseline) and ``vs_baseline_ci``, the same with
+    ``object_``, ``mae`` (positive) and ``fit_predict_seconds`` (the pipeline's time)."""
+    summary = result.summary
+
+    def finite(value):
+        return None if value is None or not np.isfinite(value) else float(value)
+
+    rows = {}
+    for i, name in enumerate(summary["pipeline"]):
+        row = {"pipeline": name, "fit_predict_seconds": summary["time"][i], "error": summary["error"][i]}
+        for prefix in ("", "object_"):
+            score = f"{prefix}balanced_accuracy"
+            row[score] = summary[score][i]
+            row[f"{score}_ci"] = (summary[f"{score}_low"][i], summary[f"{score}_high"][i])
+            margin = finite(summary[f"{score}_vs_baseline"][i])
+            row[f"{prefix}vs_baseline"] = margin
+            row[f"{prefix}vs_baseline_ci"] = None if margin is None else (
+                summary[f"{score}_vs_baseline_low"][i], summary[f"{score}_vs_baseline_high"][i])
+        if "neg_hardness_mae" in summary:
+            row["mae"] = -summary["neg_hardness_mae"][i]
+        rows[name] = row
+    return rows

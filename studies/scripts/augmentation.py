@@ -30,7 +30,7 @@ import time
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from _estimate_modulus import GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
-from _evaluate_dataset import evaluate_dataset
+from _evaluate_dataset import evaluate_dataset, table_rows
 from sim_confounds import recall_per_rank
 from sim_to_real import simulated
 from sim_vs_real_stats import parse_param
@@ -102,14 +102,14 @@ def main():
         data = make_presses("everyday", random_state=seed, **variant)
         named = {spec: pipeline(spec, seed) for spec in args.augmenters}
         res = evaluate_dataset(data, named, n_jobs=args.n_jobs, random_state=seed, verbose=0)
-        table = {row["pipeline"]: row for row in res.table}
+        table = table_rows(res)
         base = table["peak_change"]["balanced_accuracy"]
         if real is not None:  # every 2nd pixel, as sim_to_real trains
             videos, target, hardness, _, _ = simulated(seed, cache=args.cache, **variant)
         for spec in args.augmenters:
             bal = table[spec]["balanced_accuracy"]
             lo, hi = table[spec]["balanced_accuracy_ci"]
-            recall = recall_per_rank(res.confusion[spec])
+            recall = recall_per_rank(res.confusion_matrix(spec))
             right = None
             if real is not None:
                 est = pipeline(spec, seed).fit(videos, target)

@@ -82,7 +82,7 @@ def main(argv=None):
     ap.add_argument("--n-jobs", type=int, default=2)
     ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
     args = ap.parse_args(argv)
-    from _evaluate_dataset import evaluate_dataset
+    from _evaluate_dataset import evaluate_dataset, table_rows
 
     from harness.provenance import report
     from sklearn_hardness.datasets import make_presses
@@ -97,7 +97,7 @@ def main(argv=None):
             result = evaluate_dataset(make_presses("everyday", random_state=seed),
                                       ["contact_profile", "loading_compliance"], random_state=seed,
                                       n_jobs=args.n_jobs, verbose=0)
-            table = {row["pipeline"]: row for row in result.table}
+            table = table_rows(result)
             rows.append((seed, table, result.recommended))
             across.append(across_forces(seed, args.firm_force))
 

@@ -48,7 +48,7 @@ import time
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
-from _evaluate_dataset import evaluate_dataset
+from _evaluate_dataset import evaluate_dataset, fold_scores, table_rows, test_folds
 from joblib import Parallel, delayed
 from scipy import stats
 from sklearn.linear_model import LogisticRegression
@@ -84,15 +84,15 @@ def one_draw(seed, gains, n_repeats=1):
     data = make_objects(np.random.default_rng(seed), gains)
     pipes = {"peak_change": on_feature(0), "other": on_feature(1)}
     result = evaluate_dataset(data, pipes, cv=CV, n_repeats=n_repeats, random_state=seed, verbose=0)
-    diff = result.fold_scores["other"] - result.fold_scores["peak_change"]
+    diff = fold_scores(result, "other") - fold_scores(result, "peak_change")
     t = stats.t.ppf(0.975, len(diff) - 1)
     plain = diff.mean() - t * diff.std(ddof=1) / np.sqrt(len(diff))
     n = len(result.target)
-    ratio = np.mean([len(test) / (n - len(test)) for test in result.folds])
+    ratio = np.mean([len(test) / (n - len(test)) for test in test_folds(result)])
     all_df = diff.mean() - t * np.sqrt(diff.var(ddof=1) * (1 / len(diff) + ratio))
-    low = result.table[1]["vs_baseline_ci"][0]
+    low = table_rows(result)["other"]["vs_baseline_ci"][0]
     other = evaluate_dataset(data, pipes, cv=CV, n_repeats=n_repeats, random_state=seed + 500_000, verbose=0)
-    same = (low > 0) == (other.table[1]["vs_baseline_ci"][0] > 0)
+    same = (low > 0) == (table_rows(other)["other"]["vs_baseline_ci"][0] > 0)
     return diff.mean(), plain, all_df, low, same
 
 

@@ -34,6 +34,7 @@ import time
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
+from _evaluate_dataset import table_rows
 from _physiclear import load_development
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.preprocessing import StandardScaler
@@ -143,7 +144,7 @@ def main(argv=None):
           "vs peak per object [95% CI] | fit+predict s |")
     print("|---|---|---|---|---|---|---|")
     fmt = lambda m, ci: "-" if m is None else f"{m:+.2f} [{ci[0]:+.2f}, {ci[1]:+.2f}]"  # noqa: E731
-    for r in result.table:
+    for r in table_rows(result).values():
         n = r["pipeline"]
         nf = len(VARIANTS[n][0]) if n in VARIANTS else {"peak_change": 1, "contact_profile": 12}.get(n, "")
         ci, oci = r["balanced_accuracy_ci"], r["object_balanced_accuracy_ci"]

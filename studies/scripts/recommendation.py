@@ -24,7 +24,7 @@ import time
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
-from _evaluate_dataset import evaluate_dataset
+from _evaluate_dataset import evaluate_dataset, table_rows
 from sim_vs_real_stats import parse_param
 
 from harness.memory import peak_rss_mb
@@ -34,7 +34,7 @@ from sklearn_hardness.datasets import make_presses
 
 def margins(result):
     """``{pipeline: (margin, (lo, hi))}`` over the baseline, the baseline left out."""
-    return {r["pipeline"]: (r["vs_baseline"], tuple(r["vs_baseline_ci"])) for r in result.table
+    return {r["pipeline"]: (r["vs_baseline"], tuple(r["vs_baseline_ci"])) for r in table_rows(result).values()
             if r["vs_baseline"] is not None}
 
 

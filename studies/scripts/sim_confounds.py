@@ -43,7 +43,7 @@ import time
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
-from _evaluate_dataset import evaluate_dataset
+from _evaluate_dataset import evaluate_dataset, table_rows
 from _sim_variants import VARIANTS
 
 from harness.memory import peak_rss_mb
@@ -86,14 +86,14 @@ def main():
         results[name] = result
         lines.append(f"{name}: {n_groups} groups, {len(result.target)} presses, {seconds:.0f} s")
         print(lines[-1], file=sys.stderr, flush=True)
-    pipelines = [row["pipeline"] for row in results[args.variants[0]].table]
+    pipelines = results[args.variants[0]].pipelines
     width = max(len(p) for p in pipelines)
     header = f"{'pipeline':<{width}}  " + "  ".join(f"{v:>24}" for v in args.variants)
     rows = [header]
     for p in pipelines:
         cells = []
         for v in args.variants:
-            row = next(r for r in results[v].table if r["pipeline"] == p)
+            row = table_rows(results[v])[p]
             lo, hi = row["balanced_accuracy_ci"]
             cells.append(f"{row['balanced_accuracy']:.2f} [{lo:.2f}, {hi:.2f}]".rjust(24))
         rows.append(f"{p:<{width}}  " + "  ".join(cells))
@@ -101,7 +101,7 @@ def main():
     for v in args.variants:
         recall_rows.append(f"recall per rank ({' / '.join(map(str, results[v].target_names))}):")
         for p in pipelines:
-            recall_rows.append(f"{v}  {p:<{width}}  {recall_per_rank(results[v].confusion[p])}")
+            recall_rows.append(f"{v}  {p:<{width}}  {recall_per_rank(results[v].confusion_matrix(p))}")
     text = "\n".join([
         f"everyday preset variants, balanced accuracy [95% CI over 5 object-disjoint folds], seed {args.seed}, "
         "chance 0.33",
