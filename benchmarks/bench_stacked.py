@@ -36,7 +36,7 @@ import torch
 
 from harness.machine import matmul_gflops
 from harness.memory import peak_rss_mb, reset_peak
-from sklearn_hardness.models import StackedConvLSTMNet
+from sklearn_hardness.models._stacked import StackedConvLSTMNet
 
 
 def matmul_reference(device, n, repeat):

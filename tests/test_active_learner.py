@@ -281,7 +281,7 @@ def test_concat_rows_kinds():
 
 
 def test_concat_rows_keeps_lazy_videos_lazy():
-    from sklearn_hardness.datasets._lazy import LazyVideoSequence
+    from sklearn_hardness.utils._lazy import LazyVideoSequence
 
     loaded = []
 

@@ -128,7 +128,7 @@ def test_bad_press():
 
 
 def test_lazy_video_pool_stays_lazy():
-    from sklearn_hardness.datasets._lazy import LazyVideoSequence
+    from sklearn_hardness.utils._lazy import LazyVideoSequence
 
     loaded = []
 

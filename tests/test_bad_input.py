@@ -18,13 +18,13 @@ from sklearn.exceptions import NotFittedError
 from sklearn_hardness.active import ActiveLearner, PressOracle, class_uncertainty
 from sklearn_hardness.active._strategies import get_strategy
 from sklearn_hardness.datasets import load_press_videos, make_presses
-from sklearn_hardness.datasets._lazy import LazyVideoSequence
 from sklearn_hardness.features import OpticalFlowFeatures
 from sklearn_hardness.io import read_video, write_video
 from sklearn_hardness.metrics import hardness_mae, make_hardness_mae_scorer
 from sklearn_hardness.models import ConvLSTMClassifier, OFNNClassifier
 from sklearn_hardness.models._pipelines import FrameScaler
 from sklearn_hardness.preprocessing import ContactFrameSelector
+from sklearn_hardness.utils._lazy import LazyVideoSequence
 from sklearn_hardness.utils._param_validation import InvalidParameterError
 
 from ._synthetic import synthetic_press

@@ -178,7 +178,10 @@ def test_names_offered_by_the_parser_are_the_library_s():
     with pytest.raises(ValueError, match="unknown pipeline"):
         evaluate_pipelines(["not-a-pipeline"], [], [])
     assert default is None  # evaluate_pipelines' default: DEFAULT_PIPELINES, + loading_compliance with force
-    from sklearn_hardness._registry import DEFAULT_PIPELINES, PIPELINE_NAMES
+    from sklearn_hardness.models import pipeline_info, pipeline_names
+
+    DEFAULT_PIPELINES = [n for n in pipeline_names() if pipeline_info(n).default]
+    PIPELINE_NAMES = pipeline_names()
 
     assert pipelines == PIPELINE_NAMES
 
@@ -191,11 +194,10 @@ def test_names_offered_by_the_parser_are_the_library_s():
 
 
 def test_every_set_key_is_documented_in_help_and_docstring(capsys):
-    from sklearn_hardness.experiments import get_config
-    from sklearn_hardness.experiments._config import _KEY_HELP
+    from sklearn_hardness.experiments import CONFIG_KEYS, get_config
 
     keys = set(get_config("silicone5")) - {"preset"}
-    assert set(_KEY_HELP) == keys
+    assert set(CONFIG_KEYS) == keys
     with pytest.raises(SystemExit):
         main(["reproduce", "--help"])
     text = capsys.readouterr().out

@@ -5,8 +5,8 @@ import pytest
 from sklearn.model_selection import train_test_split
 
 from sklearn_hardness.datasets import load_press_videos
-from sklearn_hardness.datasets._lazy import LazyVideoSequence
 from sklearn_hardness.io import write_video
+from sklearn_hardness.utils._lazy import LazyVideoSequence
 
 from ._synthetic import synthetic_press
 

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from sklearn_hardness.datasets import load_physiclear
-from sklearn_hardness.datasets._lazy import LazyVideoSequence
 from sklearn_hardness.io import write_video
+from sklearn_hardness.utils._lazy import LazyVideoSequence
 
 from ._synthetic import synthetic_press
 

@@ -3,12 +3,11 @@
 import numpy as np
 import pytest
 
-from sklearn_hardness._registry import pipeline_info
 from sklearn_hardness.experiments import get_config
 from sklearn_hardness.experiments._config import check_config
 from sklearn_hardness.experiments._data import _feature_params, _frame_params
 from sklearn_hardness.experiments._models import MODEL_NAMES, make_estimator, model_pipeline
-from sklearn_hardness.models import make_named_pipeline
+from sklearn_hardness.models import make_named_pipeline, pipeline_info
 
 THREE = ["log_peak_change", "log_loading_time", "log_contact_spread"]
 

@@ -12,8 +12,7 @@ from sklearn.preprocessing import FunctionTransformer
 from sklearn.utils import Bunch
 
 from sklearn_hardness._cli import main
-from sklearn_hardness._registry import PIPELINE_NAMES, make_named_pipeline, pipeline_info
-from sklearn_hardness.datasets import make_presses
+from sklearn_hardness.datasets import force_and_position, make_presses
 from sklearn_hardness.experiments import run_model_baselines
 from sklearn_hardness.features import PeakContactChange
 from sklearn_hardness.model_selection import (
@@ -25,8 +24,13 @@ from sklearn_hardness.model_selection import (
 )
 from sklearn_hardness.model_selection._per_press import first_input
 from sklearn_hardness.model_selection._report import fold_scores
-from sklearn_hardness.models import make_contact_profile_pipeline, make_peak_change_baseline
-from sklearn_hardness.utils._force_position import force_position, presses_lacking_force_position
+from sklearn_hardness.models import (
+    make_contact_profile_pipeline,
+    make_named_pipeline,
+    make_peak_change_baseline,
+    pipeline_info,
+    pipeline_names,
+)
 
 
 def _run(data, pipelines=None, *, baseline=True, roi=None, random_state=0, error_score="raise", verbose=1,
@@ -34,7 +38,7 @@ def _run(data, pipelines=None, *, baseline=True, roi=None, random_state=0, error
     """``evaluate_pipelines`` on a dataset Bunch, as the CLI calls it (the old dataset-first call, in one place)."""
     if pipelines is None:
         pipelines = ["contact_geometry", "convlstm_intensity", "contact_profile"] + (
-            [] if presses_lacking_force_position(data) else ["loading_compliance"])
+            [] if force_and_position(data, missing="none") is None else ["loading_compliance"])
     if not isinstance(pipelines, dict):
         def video(name):
             return {"roi": roi} if roi is not None and pipeline_info(name).input == "video" else {}
@@ -46,7 +50,7 @@ def _run(data, pipelines=None, *, baseline=True, roi=None, random_state=0, error
         pipelines, data.videos, data.target, groups=groups,
         baseline=("peak_change", make_named_pipeline("peak_change", roi=roi)) if baseline else None,
         target_names=data.target_names, hardness=getattr(data, "hardness", None),
-        force_position=force_position(data, reads) if reads else None, random_state=random_state,
+        force_position=force_and_position(data) if reads else None, random_state=random_state,
         error_score=error_score, verbose=verbose, **kwargs)
 
 
@@ -572,7 +576,7 @@ def test_roi_reaches_the_baseline_and_every_named_pipeline():
 
     from ._synthetic import FRAMED_GEL, framed_press, growing_disc_press
 
-    for name in PIPELINE_NAMES:
+    for name in pipeline_names():
         params = _estimators([name], None, FRAMED_GEL, 0)[name].get_params()
         if name == "loading_compliance":  # force and position: no frames to read
             assert not any(k.endswith("__roi") for k in params), name
@@ -871,7 +875,7 @@ def test_cli_evaluates_loading_compliance_on_a_simulated_manifest(tmp_path, caps
 def test_by_default_evaluate_adds_loading_compliance_where_every_press_has_force_and_position(tiny, monkeypatch):
     from sklearn_hardness._cli import build_parser
     from sklearn_hardness._cli._evaluate import _force_position
-    from sklearn_hardness._registry import DEFAULT_PIPELINES
+    DEFAULT_PIPELINES = [n for n in pipeline_names() if pipeline_info(n).default]
     from sklearn_hardness.model_selection import _validation
 
     assert len(_force_position(tiny, None)) == len(tiny.target)  # the command adds loading_compliance

@@ -8,7 +8,6 @@ from sklearn.model_selection import GridSearchCV
 from sklearn.utils.class_weight import compute_class_weight
 from skorch.callbacks import Callback
 
-from sklearn_hardness._registry import DEFAULT_PIPELINES
 from sklearn_hardness.models import (
     FrameAugmenter,
     ImprintCNNClassifier,
@@ -206,7 +205,7 @@ def test_grid_search_over_dropout_on_the_pipeline():
 def test_named_pipeline():
     info = pipeline_info("imprint_cnn")
     assert info.input == "video" and info.samples and info.random
-    assert "imprint_cnn" not in DEFAULT_PIPELINES
+    assert not pipeline_info("imprint_cnn").default
     pipe = make_named_pipeline("imprint_cnn", random_state=3)
     assert [name for name, _ in pipe.steps] == ["frames", "scale", "clf"]
     clf = pipe.named_steps["clf"]

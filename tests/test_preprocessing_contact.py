@@ -282,7 +282,7 @@ def test_indices_property(n_frames, start, length, n_between, seed):
 
 
 def test_each_video_is_loaded_once():
-    from sklearn_hardness.datasets._lazy import LazyVideoSequence
+    from sklearn_hardness.utils._lazy import LazyVideoSequence
 
     loads = []
     videos = [synthetic_press(seed=s) for s in range(4)]

@@ -15,8 +15,9 @@ import pytest
 
 from sklearn_hardness._cli import main
 from sklearn_hardness.datasets import load_press_videos
-from sklearn_hardness.datasets._lazy import LazyVideoSequence, UnreadableVideosError, raise_unreadable
 from sklearn_hardness.model_selection import evaluate_pipelines
+from sklearn_hardness.utils._lazy import LazyVideoSequence
+from sklearn_hardness.utils._unreadable import UnreadableVideosError, raise_unreadable
 
 from ._exp_data import tiny_presses, write_object_manifest
 

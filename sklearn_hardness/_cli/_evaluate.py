@@ -6,7 +6,7 @@ import argparse
 import os
 import sys
 
-from .._registry import DEFAULT_PIPELINES, PIPELINE_NAMES, default_pipelines, pipeline_info
+from ..models import pipeline_info, pipeline_names
 from ._common import (
     _SIM_PRESETS,
     _add_quiet,
@@ -24,9 +24,14 @@ from ._common import (
 
 def _pipelines_epilog():
     """The pipelines' names with their one-line summaries, from the registry."""
-    width = max(map(len, PIPELINE_NAMES))
+    width = max(map(len, pipeline_names()))
     return "pipelines (sklearn_hardness.models.pipeline_names):\n" + "\n".join(
-        f"  {name:<{width}}  {pipeline_info(name).summary}" for name in PIPELINE_NAMES)
+        f"  {name:<{width}}  {pipeline_info(name).summary}" for name in pipeline_names())
+
+
+def _defaults():
+    """The pipelines evaluate runs by default (beside the baseline)."""
+    return [name for name in pipeline_names() if pipeline_info(name).default]
 
 
 def _add_evaluate(sub):
@@ -45,8 +50,8 @@ def _add_evaluate(sub):
     )
     p.add_argument("dataset", help="a manifest.csv (or its folder), or a simulator preset "
                    f"({', '.join(_SIM_PRESETS)})")
-    p.add_argument("--pipelines", nargs="*", default=None, choices=PIPELINE_NAMES,
-                   metavar="NAME", help=f"among {', '.join(PIPELINE_NAMES)} (default: {' '.join(DEFAULT_PIPELINES)}, "
+    p.add_argument("--pipelines", nargs="*", default=None, choices=pipeline_names(),
+                   metavar="NAME", help=f"among {', '.join(pipeline_names())} (default: {' '.join(_defaults())}, "
                    "and loading_compliance where every press has force and position); "
                    "the peak_change baseline is always added")
     p.add_argument("--cv", type=_int_type(2, what="an integer >= 2"), default=5,
@@ -98,10 +103,10 @@ def _groups(data, column):
 
 def _estimators(names, force_position, roi, seed):
     """``{name: pipeline}`` of the registry's ``names`` (the defaults where None), ``roi`` to those reading video."""
-    from .._registry import make_named_pipeline
+    from ..models import make_named_pipeline
 
     if names is None:
-        names = default_pipelines(force_position is not None)
+        names = _defaults() + (["loading_compliance"] if force_position is not None else [])
     return {name: make_named_pipeline(name, random_state=seed,
                                       **({"roi": roi} if pipeline_info(name).input == "video" else {}))
             for name in names}
@@ -109,17 +114,17 @@ def _estimators(names, force_position, roi, seed):
 
 def _force_position(data, names):
     """Each press's (T, 2) force and position where ``names`` (None: the defaults) need or can use them."""
-    from ..utils._force_position import force_position, presses_lacking_force_position
+    from ..datasets import force_and_position
 
     if names is None:
-        return None if presses_lacking_force_position(data) else force_position(data, ["loading_compliance"])
+        return force_and_position(data, missing="none")
     reads = [n for n in names if pipeline_info(n).input != "video"]
-    return force_position(data, reads) if reads else None
+    return force_and_position(data) if reads else None
 
 
 def _run_evaluate(args):
-    from .._registry import make_named_pipeline
     from ..model_selection import ConfusionMatricesDisplay, evaluate_pipelines, format_evaluation
+    from ..models import make_named_pipeline
     from ..utils._validation import check_roi
     from ._header import output_header, read_header
 

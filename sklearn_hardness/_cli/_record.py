@@ -46,7 +46,7 @@ def _run_record(args):
 
     from ..io import record_video
     from ..preprocessing import ContactFrameSelector
-    from ..utils._manifest import append_manifest_row, complete_manifest_row
+    from ._manifest import append_manifest_row, complete_manifest_row
 
     if args.n_frames is not None and args.duration is not None:
         raise _UsageError("pass --n-frames or --duration, not both")

@@ -8,7 +8,8 @@ import os
 import sys
 import textwrap
 
-from .._registry import EXPERIMENT_MODELS, pipeline_info
+from ..experiments import EXPERIMENT_MODELS
+from ..models import pipeline_info
 from ._common import (
     _SIM_PRESETS,
     _add_quiet,
@@ -25,7 +26,7 @@ from ._common import (
 
 
 def _quick_help():
-    from .._experiment_names import QUICK_OVERRIDES  # no torch: --help stays fast
+    from ..experiments import QUICK_OVERRIDES  # no torch: --help stays fast
 
     return ("a first look in a few minutes on 2 cores; changes: "
             + ", ".join(f"{k}={v}" for k, v in QUICK_OVERRIDES.items())
@@ -33,18 +34,18 @@ def _quick_help():
 
 
 def _strategies_help():
-    from .._experiment_names import STRATEGIES
+    from ..experiments import STRATEGIES
 
     return f"strategies to compare (default: {' '.join(STRATEGIES)})"
 
 
 def _config_keys_epilog():
     """The ``--set`` keys with their meaning, from the table that also writes get_config's docstring."""
-    from .._experiment_names import KEY_HELP
+    from ..experiments import CONFIG_KEYS
 
-    width = max(map(len, KEY_HELP))
+    width = max(map(len, CONFIG_KEYS))
     return "configuration keys for --set (sklearn_hardness.experiments.get_config):\n" + "\n".join(
-        f"  {key:<{width}}  {meaning}" for key, meaning in KEY_HELP.items())
+        f"  {key:<{width}}  {meaning}" for key, meaning in CONFIG_KEYS.items())
 
 
 def _add_reproduce(sub):
@@ -119,10 +120,9 @@ def _run_paper_protocol(args, config):
 
 def _reproduce_config(args):
     """The configuration overrides of ``reproduce``, every input checked before anything is written."""
-    from .._experiment_names import STRATEGIES
     from ..active import check_strategies
     from ..datasets import load_press_videos
-    from ..experiments import check_config, get_config, load_dataset
+    from ..experiments import STRATEGIES, check_config, get_config, load_dataset
 
     if args.protocol == "paper" and (args.dataset or args.model):
         raise _UsageError("--protocol paper runs the simulator presets with their models; it takes no "

@@ -83,9 +83,9 @@ def _run_select(args):
 
     from ..datasets import load_press_videos
     from ..preprocessing import ContactFrameSelector
-    from ..utils._manifest import manifest_file
     from ..utils._unreadable import raise_unreadable
     from ..utils._validation import check_roi, rename_videos
+    from ._manifest import manifest_file
 
     fmt = _select_format(args)
     with _user_errors():

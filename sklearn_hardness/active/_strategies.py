@@ -511,6 +511,12 @@ def check_strategies(strategies):
     ValueError
         An empty list, an unknown name (one the package does not register), or the
         same strategy twice.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.active import check_strategies, random_sampling
+    >>> check_strategies(["variance", random_sampling])[1]
+    ['variance', 'random_sampling']
     """
     if isinstance(strategies, str) or callable(strategies):
         strategies = (strategies,)

@@ -12,9 +12,9 @@ import numpy as np
 from sklearn.utils import Bunch
 
 from ..io import read_video
+from ..utils._lazy import LazyVideoSequence
 from ..utils._param_validation import Interval, validate_params
 from ..utils._warnings import external_stacklevel
-from ._lazy import LazyVideoSequence
 
 __all__ = ["load_press_videos"]
 

@@ -11,7 +11,7 @@ import threading
 
 import numpy as np
 
-from ._lazy import LazyVideoSequence
+from ..utils._lazy import LazyVideoSequence
 from ._sim_everyday import apply_codec, render_everyday_press
 from ._sim_optics import SensorOptics, render_press
 

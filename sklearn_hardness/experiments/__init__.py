@@ -23,36 +23,54 @@
 
 Object-disjoint evaluation of pipelines on new objects is
 :mod:`sklearn_hardness.model_selection`.
+
+Constants, importable without torch (the command line's ``--help`` reads
+them): :data:`EXPERIMENT_MODELS`, the named pipelines the experiments run;
+:data:`STRATEGIES`, the strategies compared by default; :data:`QUICK_OVERRIDES`,
+what ``quick=True`` changes; :data:`CONFIG_KEYS`, one line on each key of a
+configuration. The functions import their modules when first asked for.
 """
 
-from ._active import run_active_sampling
-from ._baselines import run_dropout_sweep, run_model_baselines
-from ._config import check_config, get_config
-from ._data import load_dataset
-from ._plotting import plot_active_sampling, plot_model_baselines, plot_uncertainty, save_figures
-from ._protocol import run_paper_protocol
-from ._results import ExperimentResult
-from ._stats import format_paired_table, format_presses_to_reach, paired_table, presses_to_reach
-from ._tables import baseline_table, comparison_table, format_table
+import importlib
 
-__all__ = [
-    "run_active_sampling",
-    "run_model_baselines",
-    "run_dropout_sweep",
-    "comparison_table",
-    "baseline_table",
-    "format_table",
-    "paired_table",
-    "format_paired_table",
-    "presses_to_reach",
-    "format_presses_to_reach",
-    "plot_active_sampling",
-    "plot_uncertainty",
-    "plot_model_baselines",
-    "save_figures",
-    "get_config",
-    "check_config",
-    "run_paper_protocol",
-    "load_dataset",
-    "ExperimentResult",
-]
+from ._names import CONFIG_KEYS as CONFIG_KEYS  # the constants: documented above, not functions of __all__
+from ._names import EXPERIMENT_MODELS as EXPERIMENT_MODELS
+from ._names import QUICK_OVERRIDES as QUICK_OVERRIDES
+from ._names import STRATEGIES as STRATEGIES
+
+#: Each public name and the module it is imported from when first asked for.
+_LAZY = {
+    "run_active_sampling": "._active",
+    "run_model_baselines": "._baselines",
+    "run_dropout_sweep": "._baselines",
+    "comparison_table": "._tables",
+    "baseline_table": "._tables",
+    "format_table": "._tables",
+    "paired_table": "._stats",
+    "format_paired_table": "._stats",
+    "presses_to_reach": "._stats",
+    "format_presses_to_reach": "._stats",
+    "plot_active_sampling": "._plotting",
+    "plot_uncertainty": "._plotting",
+    "plot_model_baselines": "._plotting",
+    "save_figures": "._plotting",
+    "get_config": "._config",
+    "check_config": "._config",
+    "run_paper_protocol": "._protocol",
+    "load_dataset": "._data",
+    "ExperimentResult": "._results",
+}
+
+__all__ = list(_LAZY)
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name], __name__), name)
+        globals()[name] = value  # once: later look-ups find it directly
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

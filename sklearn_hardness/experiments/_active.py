@@ -11,10 +11,10 @@ import numbers
 import joblib
 import numpy as np
 
-from .._experiment_names import STRATEGIES
 from ..active import check_strategies
 from ._config import config_hash, resolve_convergence_threshold, run_config
 from ._data import prepare_inputs
+from ._names import STRATEGIES
 from ._results import ExperimentResult, ResultsStore
 from ._run import _active_pair, _seeds, _split_objects
 from ._runner import run_tasks

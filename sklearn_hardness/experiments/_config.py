@@ -17,13 +17,11 @@ import numbers
 
 import numpy as np
 
-from .._experiment_names import KEY_HELP as _KEY_HELP
-from .._experiment_names import QUICK_OVERRIDES
-from .._registry import pipeline_info
-from ..models import chance_scaled_threshold
+from ..models import chance_scaled_threshold, pipeline_info
 from ..utils._param_validation import FRAME_SIZE, Interval, StrOptions, validate_parameter_constraints
 from ._models import MODEL_NAMES, default_frame_size, describe_model, selects_frames
 from ._models import input_name as _input_name
+from ._names import CONFIG_KEYS, QUICK_OVERRIDES
 
 __all__ = ["PRESET_CONFIGS", "QUICK_OVERRIDES", "MODEL_NAMES", "get_config", "config_hash"]
 
@@ -168,7 +166,7 @@ def get_config(preset="silicone5", *, quick=False, **overrides):
 
 if get_config.__doc__:  # None under python -OO
     get_config.__doc__ = get_config.__doc__.replace("{keys}", "\n".join(
-        f"        ``{key}``\n            {meaning}." for key, meaning in _KEY_HELP.items()))
+        f"        ``{key}``\n            {meaning}." for key, meaning in CONFIG_KEYS.items()))
 
 
 def default_preset(dataset, preset):
@@ -234,6 +232,13 @@ def check_config(cfg):
     ------
     ValueError
         A value out of range or keys that do not go together.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.experiments import check_config, get_config
+    >>> cfg = check_config(get_config("silicone5", n_iterations=3))
+    >>> cfg["n_iterations"], cfg["model"]
+    (3, 'convlstm')
     """
     validate_parameter_constraints(
         _CONFIG_CONSTRAINTS, {k: cfg[k] for k in _CONFIG_CONSTRAINTS}, caller_name="the experiment configuration"

@@ -22,11 +22,10 @@ import joblib
 import numpy as np
 from sklearn.utils import Bunch
 
-from ..datasets import load_press_videos, make_presses
+from ..datasets import force_and_position, load_press_videos, make_presses
 from ..features import ContactGeometryFeatures, ContactProfileFeatures, DINOv2Features, OpticalFlowFeatures
 from ..models import make_named_pipeline
 from ..preprocessing import ContactFrameSelector
-from ..utils._force_position import force_position
 from ..utils._per_press import default_cache_dir
 from ..utils._progress import progress_bar
 from ..utils._unreadable import raise_unreadable
@@ -75,6 +74,13 @@ def load_dataset(dataset, cfg):
     -------
     data : Bunch
         ``videos`` (loaded lazily), ``target``, ``hardness``, ...
+
+    Examples
+    --------
+    >>> from sklearn_hardness.experiments import get_config, load_dataset
+    >>> data = load_dataset("silicone5", get_config("silicone5", image_size=(32, 40)))
+    >>> len(data.videos), data.target_names.tolist()
+    (455, ['0.44', '0.68', '0.79', '1.02', '1.13'])
     """
     spec = _dataset_spec(dataset, cfg)
     if spec is not None and spec[0] == "make_presses":
@@ -164,7 +170,7 @@ def _compute(data, frame_params, feature_params, verbose, n_jobs=None, memory=No
         steps = make_named_pipeline("loading_compliance", features=feature_params["features"],
                                     onset=feature_params["onset"],
                                     drive_compliance=feature_params["drive_compliance"], memory=memory)[:2]
-        X = steps.fit_transform(force_position(data, ["loading_compliance"])).astype(np.float32)
+        X = steps.fit_transform(force_and_position(data)).astype(np.float32)
     else:
         try:
             X = _video_inputs(data["videos"], frame_params, feature_params, verbose, n_jobs, memory)

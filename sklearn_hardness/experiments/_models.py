@@ -1,7 +1,7 @@
 """The experiments' named models, built from the registry of named pipelines.
 
 A name means the model :func:`sklearn_hardness.models.make_named_pipeline`
-builds under it (:mod:`sklearn_hardness._registry`); the experiments add the
+builds under it; the experiments add the
 run's settings, each a documented configuration key (:func:`~._config.get_config`):
 ``class_weight`` (None, the paper's unweighted loss, by default), the frames'
 ``n_between``, ``frame_size``, ``color`` and ``crop_contact``, ``dinov2_model``,
@@ -22,7 +22,6 @@ from sklearn.base import BaseEstimator, clone
 from sklearn.pipeline import Pipeline
 
 from .. import models
-from .._registry import EXPERIMENT_MODELS, builder, make_named_pipeline, pipeline_info
 from ..features import (
     ContactGeometryFeatures,
     ContactProfileFeatures,
@@ -30,8 +29,9 @@ from ..features import (
     LoadingCompliance,
     OpticalFlowFeatures,
 )
-from ..models import EarlyStoppingAfterFirstFit, FrameScaler
+from ..models import EarlyStoppingAfterFirstFit, make_named_pipeline, pipeline_info
 from ..utils._random import set_random_states
+from ._names import EXPERIMENT_MODELS
 
 MODEL_NAMES = EXPERIMENT_MODELS
 
@@ -46,7 +46,7 @@ def input_name(model):
 
 
 def _builder_parameters(name):
-    return inspect.signature(builder(name)[0]).parameters
+    return inspect.signature(getattr(models, pipeline_info(name).builder)).parameters
 
 
 def selects_frames(name):
@@ -112,8 +112,8 @@ def input_scaler(model, cfg):
     """The factory's ``"scale"`` step of a named model, unfitted; None where the model's inputs are not scaled.
 
     The one place the experiments' input scaling comes from: the same
-    transformer a user's pipeline of the model fits (:class:`FrameScaler` for
-    the ConvLSTM, a ``StandardScaler`` for the contact profile; for the
+    transformer a user's pipeline of the model fits (the frames' one global
+    scale for the ConvLSTM, a ``StandardScaler`` for the contact profile; for the
     loading compliance its median imputer and ``StandardScaler``, the imputer
     filling the presses whose loading phase was too short to fit). The
     experiments fit it on the training presses a run may see (see
@@ -126,8 +126,8 @@ def input_scaler(model, cfg):
     if "impute" in pipe.named_steps:
         return clone(Pipeline([(name, pipe.named_steps[name]) for name in ("impute", "scale")]))
     step = pipe.named_steps.get("scale")
-    if step is None or (isinstance(step, FrameScaler) and cfg.get("input_scale") is None):
-        return None
+    if step is None or ("frames" in pipe.named_steps and cfg.get("input_scale") is None):
+        return None  # the frame pipelines' scale is the ConvLSTM's FrameScaler: input_scale=None keeps frames raw
     return clone(step)
 
 

@@ -47,6 +47,15 @@ def plot_active_sampling(result, metric="accuracy", ax=None, band="std"):
     Returns
     -------
     ax : matplotlib Axes
+
+    Examples
+    --------
+    Needs matplotlib (``pip install "sklearn-hardness[plot]"``)::
+
+        from sklearn_hardness.experiments import plot_active_sampling, run_active_sampling
+
+        res = run_active_sampling("silicone5", quick=True, n_jobs=2)
+        plot_active_sampling(res, metric="accuracy").figure.savefig("accuracy.png")
     """
     if metric not in _LABELS:
         raise ValueError(f"metric must be one of {list(_LABELS)}, got {metric!r}.")
@@ -81,7 +90,16 @@ def plot_active_sampling(result, metric="accuracy", ax=None, band="std"):
 
 
 def plot_uncertainty(result, kind="entropy", ax=None):
-    """Mean per-class entropy or variance on the test presses per iteration (Figs. 6, 8)."""
+    """Mean per-class entropy or variance on the test presses per iteration (Figs. 6, 8).
+
+    Examples
+    --------
+    Needs matplotlib::
+
+        from sklearn_hardness.experiments import plot_uncertainty
+
+        plot_uncertainty(res, kind="variance").figure.savefig("variance.png")  # res: run_active_sampling's
+    """
     return plot_active_sampling(result, metric=kind, ax=ax, band="std")
 
 
@@ -129,7 +147,16 @@ def plot_dropout_sweep(result, metric="accuracy", ax=None, smooth=5):
 
 
 def plot_model_baselines(result, ax=None):
-    """Bar chart of train and test accuracy per model with std error bars (Fig. 3)."""
+    """Bar chart of train and test accuracy per model with std error bars (Fig. 3).
+
+    Examples
+    --------
+    Needs matplotlib::
+
+        from sklearn_hardness.experiments import plot_model_baselines, run_model_baselines
+
+        plot_model_baselines(run_model_baselines("silicone5", quick=True)).figure.savefig("baselines.png")
+    """
 
     ax = _axes(ax)
     rows = baseline_table(result)
@@ -153,6 +180,14 @@ def save_figures(result, out_dir, prefix=""):
     Active sampling: ``accuracy.png``, ``mae.png``, ``entropy.png``,
     ``variance.png``; baselines: ``baselines.png``; dropout sweep:
     ``dropout_accuracy.png``, ``dropout_mae.png``.
+
+    Examples
+    --------
+    Needs matplotlib::
+
+        from sklearn_hardness.experiments import run_active_sampling, save_figures
+
+        paths = save_figures(run_active_sampling("silicone5", quick=True), "figures")
     """
     Figure = import_optional("matplotlib.figure", "plot", "save_figures").Figure  # no pyplot: no display needed
 

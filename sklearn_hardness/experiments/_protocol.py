@@ -72,6 +72,15 @@ def run_paper_protocol(out, *, strategies=STRATEGIES, n_runs=None, quick=False, 
     -------
     summary : str
         The text written to ``out/summary.txt``.
+
+    Examples
+    --------
+    The paper's whole protocol on the simulator, as ``sklearn-hardness reproduce --protocol paper``
+    (``quick=True``: minutes on 2 cores; the full one runs for hours)::
+
+        from sklearn_hardness.experiments import run_paper_protocol
+
+        summary = run_paper_protocol("protocol_out", quick=True, n_jobs=2)
     """
     os.makedirs(out, exist_ok=True)
     path = os.path.join(out, "results.jsonl")

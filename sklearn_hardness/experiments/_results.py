@@ -204,6 +204,15 @@ class ExperimentResult:
     records : list of dict
         Tidy: one dict per run, per-iteration metrics as lists.
         ``pandas.DataFrame(result.records)`` gives a table.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.experiments import ExperimentResult
+    >>> runs = [{"key": {"strategy": s, "seed": 0}, "accuracy": [0.4, a], "converged": True}
+    ...         for s, a in [("variance", 0.8), ("random", 0.6)]]
+    >>> res = ExperimentResult(runs)
+    >>> res.groups("strategy"), res.curves("accuracy", strategy="variance").tolist()
+    (['variance', 'random'], [[0.4, 0.8]])
     """
 
     def __init__(self, records, config=None, path=None):

@@ -230,6 +230,15 @@ def format_paired_table(rows, reference="random"):
 
     An interval over fewer than 5 runs or pairs is said in words
     (``"3 pairs: too few for an interval"``).
+
+    Examples
+    --------
+    ::
+
+        from sklearn_hardness.experiments import format_paired_table, paired_table, run_active_sampling
+
+        res = run_active_sampling("silicone5", strategies=("thompson", "random"), quick=True, n_jobs=2)
+        print(format_paired_table(paired_table(res, reference="random")))
     """
     head = ["strategy", "metric", "n", "mean [95% CI]", f"- {reference} [95% CI]", "p (t)", "p (Wilcoxon)"]
     lines = []
@@ -368,7 +377,16 @@ def presses_to_reach(result, reference="random", *, n_boot=2000, level=0.95, ran
 
 
 def format_presses_to_reach(rows, reference="random"):
-    """Plain-text table of :func:`presses_to_reach` rows."""
+    """Plain-text table of :func:`presses_to_reach` rows.
+
+    Examples
+    --------
+    ::
+
+        from sklearn_hardness.experiments import format_presses_to_reach, presses_to_reach
+
+        print(format_presses_to_reach(presses_to_reach(res, reference="random")))  # res: run_active_sampling's
+    """
     def num(x):
         return "n/a" if x is None or np.isnan(x) else ("never" if np.isinf(x) else f"{x:g}")
 

@@ -42,6 +42,16 @@ def comparison_table(result, iteration=-1, human=True):
         iteration 0 (after the initial training) of the converged runs, once
         per (test object, seed), as the initial training is shared by the
         strategies.
+
+    Examples
+    --------
+    ::
+
+        from sklearn_hardness.experiments import comparison_table, format_table, run_active_sampling
+
+        res = run_active_sampling("silicone5", quick=True, n_jobs=2)
+        rows = comparison_table(res)            # a list of dicts: pandas.DataFrame(rows) takes it
+        print(format_table(rows, mae_unit="mm/N"))
     """
     rows = []
     records = [r for r in result.records if r["key"].get("experiment") == "active_sampling"]
@@ -75,7 +85,17 @@ def comparison_table(result, iteration=-1, human=True):
 
 
 def baseline_table(result):
-    """Rows per model (baselines) or per dropout rate (sweep): mean +- std of the metrics."""
+    """Rows per model (baselines) or per dropout rate (sweep): mean +- std of the metrics.
+
+    Examples
+    --------
+    ::
+
+        from sklearn_hardness.experiments import baseline_table, format_table, run_model_baselines
+
+        rows = baseline_table(run_model_baselines("silicone5", quick=True))
+        print(format_table(rows, mae_unit="mm/N"))
+    """
     key = "model" if any(r["key"].get("experiment") == "model_baselines" for r in result.records) else "dropout"
     groups = {}
     for r in result.records:
@@ -101,7 +121,17 @@ def _num(m, s):
 
 
 def format_table(rows, mae_unit=None):
-    """Plain-text table of :func:`comparison_table` or :func:`baseline_table` rows."""
+    """Plain-text table of :func:`comparison_table` or :func:`baseline_table` rows.
+
+    Examples
+    --------
+    >>> from sklearn_hardness.experiments import format_table
+    >>> print(format_table([{"name": "random", "accuracy_mean": 0.8, "accuracy_std": 0.1, "mae_mean": 0.05,
+    ...                      "mae_std": 0.02, "n_runs": 4, "n_total": 5, "converged_fraction": 0.8}]))
+            accuracy           MAE             runs  converged
+    ------  -----------------  --------------  ----  ---------
+    random   80.00% +- 10.00%  0.050 +- 0.020  4/5   80%
+    """
     mae_head = "MAE" + (f" ({mae_unit})" if mae_unit else "")
     has_train = any("train_accuracy_mean" in r for r in rows)
     head = ["", "accuracy"] + (["train accuracy"] if has_train else []) + [mae_head, "runs", "converged"]

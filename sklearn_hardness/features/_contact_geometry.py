@@ -21,12 +21,12 @@ import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ..utils._feature_names import check_feature_names, feature_columns
 from ..utils._frames import as_float255, check_float_range
 from ..utils._param_validation import HasMethods, Interval, fit_context
 from ..utils._per_press import PerPressTransformerMixin, map_presses, transform_presses
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
+from ._feature_names import check_feature_names, feature_columns
 from ._loading_moments import _frame_medians, _norm, loading_moments
 
 __all__ = ["ContactGeometryFeatures"]

@@ -9,16 +9,31 @@ import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin, clone
 from sklearn.utils.validation import check_is_fitted
 
-from ..utils._feature_names import CONTACT_PROFILE_FEATURE_NAMES, check_feature_names, feature_columns
 from ..utils._frames import as_float255, check_float_range
 from ..utils._param_validation import HasMethods, Interval, StrOptions, fit_context
 from ..utils._per_press import PerPressTransformerMixin, map_presses, transform_presses
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video, check_video_sequence, roi_slices
+from ._feature_names import check_feature_names, feature_columns
 
 __all__ = ["ContactProfileFeatures"]
 
-FEATURE_NAMES = CONTACT_PROFILE_FEATURE_NAMES  # moved to utils: model_selection reads them too
+#: Every feature, in output order when ``features="all"`` (the last two, ``log_loading_time`` and
+#: ``log_contact_spread``, were added later).
+FEATURE_NAMES = (
+    "log_peak_change",
+    "peak_over_precontact",
+    "rise_frames",
+    "rise_fraction",
+    "hold_fraction",
+    "area_at_peak",
+    "concentration",
+    "area_intensity_slope",
+    "texture_ratio",
+    "early_late_ratio",
+    "log_loading_time",
+    "log_contact_spread",
+)
 
 
 def _grey_small(video, max_side, roi=None, name="video"):

@@ -22,13 +22,13 @@ import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ..utils._feature_names import check_feature_names
 from ..utils._optional import import_optional
 from ..utils._param_validation import HasMethods, Interval, StrOptions, fit_context
 from ..utils._per_press import PerPressTransformerMixin, map_presses, transform_presses
 from ..utils._tags import videos_tags
 from ..utils._validation import check_roi, check_video_sequence
 from ._contact_geometry import _block_mean, _checked_roi, _chroma_gradients
+from ._feature_names import check_feature_names
 from ._loading_moments import _frame_medians, _norm, loading_moments
 
 __all__ = ["ImprintTextureFeatures"]

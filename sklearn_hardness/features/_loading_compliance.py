@@ -9,12 +9,12 @@ import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ..utils._feature_names import check_feature_names, feature_columns
 from ..utils._param_validation import HasMethods, Interval, StrOptions, fit_context
 from ..utils._per_press import PerPressTransformerMixin, transform_presses
 from ..utils._tags import force_position_tags
 from ..utils._validation import check_force_position
 from ..utils._warnings import external_stacklevel
+from ._feature_names import check_feature_names, feature_columns
 
 __all__ = ["LoadingCompliance"]
 
@@ -49,6 +49,19 @@ class ConventionWarning(UserWarning):
     Force is positive and position in millimetres, growing as the sensor
     moves inwards; where more than half of the presses break one of these,
     :class:`LoadingCompliance` warns, listing them.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> import numpy as np
+    >>> from sklearn_hardness.features import ConventionWarning, LoadingCompliance
+    >>> force = np.linspace(0.0, 4.0, 20)
+    >>> width = 10.0 - 0.3 * force ** (2 / 3)   # a gripper's width: falls as the force rises
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     _ = LoadingCompliance().fit_transform([np.column_stack([force, width])])
+    >>> [w.category.__name__ for w in caught]
+    ['ConventionWarning']
     """
 
 

@@ -208,6 +208,18 @@ def write_video(path, frames, fps=25.0, *, fourcc=None):
     See Also
     --------
     read_video
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import numpy as np
+    >>> from sklearn_hardness.io import read_video, write_video
+    >>> frames = np.random.default_rng(0).integers(0, 255, size=(5, 24, 32, 3), dtype=np.uint8)
+    >>> path = Path(tempfile.mkdtemp()) / "press.avi"
+    >>> write_video(path, frames)
+    >>> np.array_equal(read_video(path), frames)   # FFV1: lossless
+    True
     """
     path = Path(os.fspath(path))
     frames = check_video(frames, name="frames", allow_float=False)

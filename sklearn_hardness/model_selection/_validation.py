@@ -25,8 +25,8 @@ from sklearn.pipeline import Pipeline
 from sklearn.utils import _safe_indexing
 from sklearn.utils.parallel import Parallel, delayed
 
-from .._registry import PIPELINE_NAMES, default_pipelines, make_named_pipeline
 from ..metrics import hardness_mae
+from ..models import make_named_pipeline, pipeline_info, pipeline_names
 from ..utils._param_validation import Interval, StrOptions, validate_params
 from ..utils._progress import ProgressLog
 from ..utils._random import int_seed
@@ -320,7 +320,7 @@ def evaluate_pipelines(estimators, X, y, *, groups=None, scoring=None, cv=5, n_r
         (:func:`~sklearn_hardness.models.pipeline_names`, built by
         :func:`~sklearn_hardness.models.make_named_pipeline` seeded by
         ``random_state``) or ``(name, estimator)`` pairs. None: the default
-        pipelines (``DEFAULT_PIPELINES``), and ``"loading_compliance"``
+        pipelines (those whose ``pipeline_info(name).default`` is True), and ``"loading_compliance"``
         where ``force_position`` is given.
     X : sequence of videos
         One press per entry: a list of ``(T, H, W, 3)`` arrays or a lazy
@@ -487,13 +487,14 @@ def _inputs(named, X, force_position):
 def _named_estimators(estimators, baseline, seed, force_position):
     """``{name: estimator}`` of ``estimators`` (dict, names, pairs or None), the baseline first; its name."""
     if estimators is None:
-        estimators = default_pipelines(force_position is not None)
+        estimators = [name for name in pipeline_names() if pipeline_info(name).default] + (
+            ["loading_compliance"] if force_position is not None else [])
     items = estimators.items() if isinstance(estimators, dict) else estimators
     named = {}
     for item in items:
         if isinstance(item, str):
-            if item not in PIPELINE_NAMES:
-                raise ValueError(f"unknown pipeline {item!r}; choose among {list(PIPELINE_NAMES)} or pass "
+            if item not in pipeline_names():
+                raise ValueError(f"unknown pipeline {item!r}; choose among {list(pipeline_names())} or pass "
                                  "(name, estimator) pairs or a dict {name: estimator}.")
             item = (item, make_named_pipeline(item, random_state=seed))
         if not (isinstance(item, tuple) and len(item) == 2 and hasattr(item[1], "fit")):
@@ -513,8 +514,8 @@ def _baseline(baseline, seed):
     if baseline is None:
         return None
     if isinstance(baseline, str):
-        if baseline not in PIPELINE_NAMES:
-            raise ValueError(f"unknown baseline {baseline!r}; choose among {list(PIPELINE_NAMES)} or pass a "
+        if baseline not in pipeline_names():
+            raise ValueError(f"unknown baseline {baseline!r}; choose among {list(pipeline_names())} or pass a "
                              "(name, estimator) pair.")
         return baseline, make_named_pipeline(baseline, random_state=seed)
     if isinstance(baseline, tuple) and len(baseline) == 2 and hasattr(baseline[1], "fit"):

@@ -1,5 +1,11 @@
-"""Classifiers with Monte-Carlo-dropout uncertainty (skorch nets).
+"""Classifiers with Monte-Carlo-dropout uncertainty (skorch nets), and the ready-made pipelines by name.
 
+* :func:`pipeline_names`, :func:`pipeline_info`, :func:`make_named_pipeline`:
+  the ready-made pipelines by name (the names ``sklearn-hardness evaluate`` and
+  ``reproduce`` take): the one door to the table of named pipelines, which
+  ``model_selection``, the experiments and the command line use too; their
+  ``make_*_pipeline`` factories; :func:`make_peak_change_baseline`, the
+  one-number baseline.
 * :class:`OFNNClassifier`: MLP head on optical-flow features.
 * :class:`DINOv2NNClassifier`: MLP head on frozen DINOv2 features.
 * :class:`ContactProfileNNClassifier`: MLP head on contact-profile features of the
@@ -11,75 +17,63 @@
   ConvLSTM's training batches.
 * :class:`EnsembleClassifier`: differently seeded copies of a classifier, whose
   spread replaces MC dropout as the source of ``predict_proba_samples``.
-* :class:`StackedConvLSTMNet`: K ConvLSTM nets stepped as one torch module
-  (``EnsembleClassifier(stacked=True)``'s, for many small nets on a GPU).
 * :class:`LaplaceLogisticRegression`: scikit-learn's logistic regression with
   ``predict_proba_samples`` from the Laplace approximation of its posterior
   (the contact-profile pipeline's logistic head).
-* :func:`pipeline_names`, :func:`pipeline_info`, :func:`make_named_pipeline`:
-  the ready-made pipelines by name (the names ``sklearn-hardness evaluate`` and
-  ``reproduce`` take), and their ``make_*_pipeline`` builders;
-  :func:`make_peak_change_baseline`, the one-number baseline.
-
-* :class:`FrameScaler`: the one global input scale of the frame pipelines;
-  :class:`EarlyStoppingAfterFirstFit`: skorch's early stopping on every
-  training call but the first.
+* :class:`MCDropoutPipeline`: the pipeline of the factories, with the last
+  step's ``predict_proba_samples``.
 
 The nets have ``predict_proba_samples(X, n_samples, random_state)`` for
 batched MC-dropout samples, :func:`is_converged` implements the paper's
-convergence rule and :func:`chance_scaled_threshold` carries its threshold
-over to other numbers of classes.
+convergence rule (:func:`chance_scaled_threshold` carries its threshold over to
+other numbers of classes), and :class:`EarlyStoppingAfterFirstFit` is skorch's
+early stopping on every training call but the first (a callback: ``callbacks=``).
+
+The names of the table of named pipelines import nothing beyond the standard
+library; the others (the nets, torch) are imported when first asked for, so
+that ``import sklearn_hardness.models`` and the modules that build pipelines
+by name stay light.
 """
 
-from .._registry import make_named_pipeline, pipeline_info, pipeline_names
-from ._augmentation import FrameAugmenter
-from ._callbacks import EarlyStoppingAfterFirstFit
-from ._convergence import chance_scaled_threshold, is_converged
-from ._convlstm import ConvLSTMClassifier
-from ._ensemble import EnsembleClassifier
-from ._imprint_cnn import ImprintCNNClassifier
-from ._laplace import LaplaceLogisticRegression
-from ._mlp import ContactProfileNNClassifier, DINOv2NNClassifier, OFNNClassifier
-from ._peak_change import make_peak_change_baseline
-from ._pipelines import (
-    FrameScaler,
-    MCDropoutPipeline,
-    make_contact_geometry_pipeline,
-    make_contact_profile_pipeline,
-    make_convlstm_pipeline,
-    make_dinov2nn_pipeline,
-    make_imprint_cnn_pipeline,
-    make_imprint_texture_pipeline,
-    make_loading_compliance_pipeline,
-    make_ofnn_pipeline,
-)
-from ._stacked import StackedConvLSTMNet
+import importlib
 
-__all__ = [
-    "pipeline_names",
-    "pipeline_info",
-    "make_named_pipeline",
-    "make_peak_change_baseline",
-    "make_convlstm_pipeline",
-    "make_imprint_cnn_pipeline",
-    "make_ofnn_pipeline",
-    "make_dinov2nn_pipeline",
-    "make_contact_profile_pipeline",
-    "make_contact_geometry_pipeline",
-    "make_imprint_texture_pipeline",
-    "make_loading_compliance_pipeline",
-    "FrameAugmenter",
-    "MCDropoutPipeline",
-    "OFNNClassifier",
-    "DINOv2NNClassifier",
-    "ContactProfileNNClassifier",
-    "ConvLSTMClassifier",
-    "ImprintCNNClassifier",
-    "EnsembleClassifier",
-    "StackedConvLSTMNet",
-    "LaplaceLogisticRegression",
-    "is_converged",
-    "chance_scaled_threshold",
-    "FrameScaler",
-    "EarlyStoppingAfterFirstFit",
-]
+from ._registry import make_named_pipeline, pipeline_info, pipeline_names
+
+#: Each public name that is imported when first asked for, and its module.
+_LAZY = {
+    "make_peak_change_baseline": "._peak_change",
+    "make_convlstm_pipeline": "._pipelines",
+    "make_imprint_cnn_pipeline": "._pipelines",
+    "make_ofnn_pipeline": "._pipelines",
+    "make_dinov2nn_pipeline": "._pipelines",
+    "make_contact_profile_pipeline": "._pipelines",
+    "make_contact_geometry_pipeline": "._pipelines",
+    "make_imprint_texture_pipeline": "._pipelines",
+    "make_loading_compliance_pipeline": "._pipelines",
+    "MCDropoutPipeline": "._pipelines",
+    "FrameAugmenter": "._augmentation",
+    "OFNNClassifier": "._mlp",
+    "DINOv2NNClassifier": "._mlp",
+    "ContactProfileNNClassifier": "._mlp",
+    "ConvLSTMClassifier": "._convlstm",
+    "ImprintCNNClassifier": "._imprint_cnn",
+    "EnsembleClassifier": "._ensemble",
+    "LaplaceLogisticRegression": "._laplace",
+    "is_converged": "._convergence",
+    "chance_scaled_threshold": "._convergence",
+    "EarlyStoppingAfterFirstFit": "._callbacks",
+}
+
+__all__ = ["pipeline_names", "pipeline_info", "make_named_pipeline", *_LAZY]
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name], __name__), name)
+        globals()[name] = value  # once: later look-ups find it directly
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

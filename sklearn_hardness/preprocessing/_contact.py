@@ -32,7 +32,21 @@ from ._contact_curve import _contact_window, _min_frames_auto, _select_one
 __all__ = ["ContactFrameSelector", "ContactNotFoundWarning"]
 
 class ContactNotFoundWarning(UserWarning):
-    """Some videos never reached contact; their frames were chosen by the fallback rule."""
+    """Some videos never reached contact; their frames were chosen by the fallback rule.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> import numpy as np
+    >>> from sklearn_hardness.preprocessing import ContactFrameSelector, ContactNotFoundWarning
+    >>> still = np.full((12, 16, 16, 3), 100, np.uint8)   # a press that never touches
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     ContactFrameSelector().fit([still]).selection_.status.tolist()
+    ['no contact']
+    >>> [w.category is ContactNotFoundWarning for w in caught]
+    [True]
+    """
 
 
 class ContactFrameSelector(PerPressTransformerMixin, TransformerMixin, BaseEstimator):

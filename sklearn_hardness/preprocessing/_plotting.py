@@ -29,6 +29,17 @@ def plot_contact_selection(selection, *, labels=None, timestamps=None, ax=None, 
     Returns
     -------
     fig : matplotlib Figure
+
+    Examples
+    --------
+    Needs matplotlib (``pip install "sklearn-hardness[plot]"``)::
+
+        from sklearn_hardness.datasets import make_presses
+        from sklearn_hardness.preprocessing import ContactFrameSelector, plot_contact_selection
+
+        data = make_presses("everyday", n_per_class=2, n_objects=3, random_state=0)
+        selector = ContactFrameSelector().fit(data.videos)
+        plot_contact_selection(selector, labels=data.target_names[data.target]).savefig("curves.png")
     """
     plt = import_optional("matplotlib.pyplot", "plot", "plot_contact_selection")
 

@@ -7,7 +7,7 @@ import importlib
 __all__ = ["import_optional"]
 
 #: The optional dependencies by extra (``pip install "sklearn-hardness[EXTRA]"``).
-EXTRAS = {"plot": "matplotlib", "texture": "scikit-image", "progress": "tqdm", "dinov2": "transformers"}
+EXTRAS = {"plot": "matplotlib", "texture": "scikit-image", "dinov2": "transformers"}
 
 
 def import_optional(module, extra, caller):

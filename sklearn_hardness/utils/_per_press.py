@@ -77,6 +77,29 @@ class PerPressTransformerMixin(TransformerMixin):
     _per_press_ignored : tuple of str
         Parameters that do not change a row (parallelism, the cache itself):
         left out of each press's cache key.
+
+    Examples
+    --------
+    A step of one's own that maps each press by itself gets the shared pass of
+    :func:`~sklearn_hardness.model_selection.evaluate_pipelines` and the cache of its ``memory``:
+
+    >>> import tempfile
+    >>> import numpy as np
+    >>> from sklearn.base import BaseEstimator
+    >>> from sklearn_hardness.utils import PerPressTransformerMixin
+    >>> from sklearn_hardness.utils._per_press import transform_presses
+    >>> class PeakBrightness(PerPressTransformerMixin, BaseEstimator):
+    ...     def __init__(self, memory=None):
+    ...         self.memory = memory
+    ...     def fit(self, X, y=None):
+    ...         return self
+    ...     def transform(self, X):
+    ...         return transform_presses(self, X)[0]
+    ...     def _transform_presses(self, X):
+    ...         return np.array([[float(np.max(v))] for v in X]), {}
+    >>> videos = [np.full((3, 8, 8, 3), k, np.uint8) for k in (10, 200)]
+    >>> PeakBrightness(memory=tempfile.mkdtemp()).fit_transform(videos).ravel().tolist()
+    [10.0, 200.0]
     """
 
     _per_press_input = "videos"

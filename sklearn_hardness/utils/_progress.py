@@ -77,8 +77,8 @@ class _NoBar:
 def progress_bar(total, desc, unit, enabled=True):
     """A :mod:`tqdm` progress bar where tqdm is installed and ``enabled``, else one that shows nothing.
 
-    tqdm is optional (``pip install "sklearn-hardness[progress]"``): without
-    it the computation runs the same, without the bar.
+    tqdm is no dependency of ours (skorch installs it): without it the
+    computation runs the same, without the bar.
     """
     try:
         from tqdm.auto import tqdm

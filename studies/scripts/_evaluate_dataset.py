@@ -13,8 +13,8 @@ than leaving a fold out of a study's figure.
 
 import numpy as np
 
+from sklearn_hardness.datasets import force_and_position
 from sklearn_hardness.model_selection import evaluate_pipelines
-from sklearn_hardness.utils._force_position import force_position, presses_lacking_force_position
 
 
 def evaluate_dataset(data, estimators=None, *, groups=None, error_score="raise", **kwargs):
@@ -39,7 +39,7 @@ def evaluate_dataset(data, estimators=None, *, groups=None, error_score="raise",
     -------
     result : EvaluationResult
     """
-    rows = None if presses_lacking_force_position(data) else force_position(data, ["loading_compliance"])
+    rows = force_and_position(data, missing="none")
     return evaluate_pipelines(estimators, data.videos, data.target,
                               groups=data.object_id if groups is None else groups,
                               target_names=data.target_names, hardness=getattr(data, "hardness", None),

@@ -285,7 +285,7 @@ def main():
         from sklearn_hardness.datasets import load_press_videos
 
         # private: load_press_videos' own report of every unreadable video in one error
-        from sklearn_hardness.datasets._lazy import UnreadableVideosError, raise_unreadable
+        from sklearn_hardness.utils._unreadable import UnreadableVideosError, raise_unreadable
 
         reset_peak()
         t0 = time.perf_counter()

@@ -1,5 +1,5 @@
-"""A manifest's file, and writing its rows: shared by ``datasets`` (which reads manifests) and the
-command line's ``record`` and ``select``."""
+"""A manifest's file, and writing its rows: the command line's ``record`` and ``select``
+(:func:`~sklearn_hardness.datasets.load_press_videos` reads manifests)."""
 
 from __future__ import annotations
 

@@ -1,14 +1,19 @@
 """The named pipelines: one table of name -> builder, what it reads and what it gives.
 
 Every part of the library that builds a pipeline by name goes through this
-table: :func:`sklearn_hardness.models.make_named_pipeline` (users),
+table, by the public names of :mod:`sklearn_hardness.models` (its one door):
+:func:`~sklearn_hardness.models.make_named_pipeline`,
+:func:`~sklearn_hardness.models.pipeline_names` and
+:func:`~sklearn_hardness.models.pipeline_info`, for users,
 :func:`~sklearn_hardness.model_selection.evaluate_pipelines`, the paper's
 experiments (``reproduce``) and the command line, which builds its ``--help``
 from it. A name is one model everywhere; two variants of a model are two names.
 
 The builders are named by module and function, imported only when a pipeline is
-built, so that this module needs nothing beyond the standard library (the
-command line's ``--help`` stays fast).
+built, so that this module needs nothing beyond the standard library
+(``sklearn_hardness.models`` imports its nets only when they are asked for: the
+command line's ``--help`` and ``import sklearn_hardness.model_selection`` stay
+fast).
 """
 
 from __future__ import annotations
@@ -21,6 +26,7 @@ from dataclasses import dataclass, field
 CONTACT_PROFILE_3_FEATURES = ("log_peak_change", "log_loading_time", "log_contact_spread")
 
 _PIPELINES = "sklearn_hardness.models._pipelines"
+_PEAK_CHANGE = "sklearn_hardness.models._peak_change"
 
 
 @dataclass(frozen=True)
@@ -42,6 +48,15 @@ class PipelineInfo:
         that ``random_state`` seeds it; pipelines with nothing random ignore it.
     summary : str
         One line on what the pipeline is.
+    default : bool
+        Whether :func:`~sklearn_hardness.model_selection.evaluate_pipelines`
+        and ``sklearn-hardness evaluate`` run it by default (beside the
+        baseline; ``"loading_compliance"`` too where every press has force
+        and position).
+    builder : str
+        The name of its factory in :mod:`sklearn_hardness.models` (e.g.
+        ``"make_convlstm_pipeline"``), whose parameters
+        :func:`make_named_pipeline` passes on.
     """
 
     name: str
@@ -49,6 +64,8 @@ class PipelineInfo:
     samples: bool
     random: bool
     summary: str
+    default: bool = False
+    builder: str = ""
 
 
 @dataclass(frozen=True)
@@ -60,22 +77,32 @@ class _Entry:
 
 
 def _entry(name, module, function, fixed=None, *, input="video", samples=True, random=True, summary):
-    return name, _Entry(PipelineInfo(name, input, samples, random, summary), module, function, dict(fixed or {}))
+    default = name in _DEFAULTS
+    return name, _Entry(PipelineInfo(name, input, samples, random, summary, default, function), module, function,
+                        dict(fixed or {}))
+
+
+#: What ``evaluate`` runs by default (beside the baseline; and ``"loading_compliance"`` where every
+#: press has force and position): the pipeline chosen for real hand presses of new objects
+#: (studies/pages/anchor_split.md, studies/pages/real_development_objects.md) and the contact
+#: profile, cheap, with posterior samples. The ConvLSTMs left the defaults: on the development
+#: objects they took 96% of evaluate's time and scored below the one number.
+_DEFAULTS = ("contact_geometry", "contact_profile")
 
 
 #: Name -> entry, in the order the names are listed.
 _REGISTRY = dict([
-    _entry("peak_change", "sklearn_hardness.models._peak_change", "make_peak_change_baseline",
+    _entry("peak_change", _PEAK_CHANGE, "make_peak_change_baseline",
            samples=False, random=False,
            summary="the one-number baseline: peak change to the first frame + balanced logistic regression"),
+    _entry("contact_geometry", _PIPELINES, "make_contact_geometry_pipeline", {"head": "logistic"}, random=False,
+           summary="contact geometry from the gel's shading (twelve scale-free features) + logistic regression "
+                   "(Laplace posterior samples)"),
     _entry("contact_profile", _PIPELINES, "make_contact_profile_pipeline", {"head": "logistic"}, random=False,
            summary="contact-profile features of the whole video + logistic regression (Laplace posterior samples)"),
     _entry("contact_profile_3", _PIPELINES, "make_contact_profile_pipeline",
            {"head": "logistic", "features": CONTACT_PROFILE_3_FEATURES}, random=False,
            summary="contact_profile with three features: log_peak_change, log_loading_time, log_contact_spread"),
-    _entry("contact_geometry", _PIPELINES, "make_contact_geometry_pipeline", {"head": "logistic"}, random=False,
-           summary="contact geometry from the gel's shading (twelve scale-free features) + logistic regression "
-                   "(Laplace posterior samples)"),
     _entry("imprint_texture", _PIPELINES, "make_imprint_texture_pipeline", {"head": "logistic"}, random=False,
            summary="texture of the imprint at half rise and peak (local binary patterns, co-occurrence, Gabor, "
                    "spectrum, colour) + logistic regression (Laplace posterior samples)"),
@@ -101,23 +128,6 @@ _REGISTRY = dict([
 
 #: Every name, in the table's order.
 PIPELINE_NAMES = tuple(_REGISTRY)
-
-#: What ``evaluate`` runs by default (beside the baseline; and ``"loading_compliance"`` where every
-#: press has force and position): the pipeline chosen for real hand presses of new objects
-#: (studies/pages/anchor_split.md, studies/pages/real_development_objects.md) and the contact
-#: profile, cheap, with posterior samples. The ConvLSTMs left the defaults: on the development
-#: objects they took 96% of evaluate's time and scored below the one number.
-DEFAULT_PIPELINES = ("contact_geometry", "contact_profile")
-
-
-def default_pipelines(with_force_position):
-    """``DEFAULT_PIPELINES``, and ``"loading_compliance"`` where every press has force and position."""
-    return list(DEFAULT_PIPELINES) + (["loading_compliance"] if with_force_position else [])
-
-#: The names the paper's experiments (``reproduce --model``, ``model=``) can run: their runner trains the
-#: pipeline's last step on inputs prepared once per dataset.
-EXPERIMENT_MODELS = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn", "contact_profile", "contact_profile_3",
-                     "contact_geometry", "loading_compliance")
 
 
 def _check_name(name):
@@ -163,14 +173,15 @@ def pipeline_info(name):
         A frozen record with ``name``, ``input`` (``"video"`` or
         ``"force_position"``), ``samples`` (whether it has
         ``predict_proba_samples``), ``random`` (whether ``random_state``
-        seeds it) and ``summary``.
+        seeds it), ``summary``, ``default`` (whether ``evaluate`` runs it by
+        default) and ``builder`` (the name of its factory).
 
     Examples
     --------
     >>> from sklearn_hardness.models import pipeline_info
     >>> info = pipeline_info("convlstm")
-    >>> info.input, info.samples, info.random
-    ('video', True, True)
+    >>> info.input, info.samples, info.random, info.builder
+    ('video', True, True, 'make_convlstm_pipeline')
     """
     return _check_name(name).info
 
@@ -261,7 +272,7 @@ def _cache_per_press(pipe, memory):
     """Give ``memory`` to every per-press step of ``pipe``, nested ones too."""
     from sklearn.utils.validation import check_memory
 
-    from .utils._per_press import PerPressTransformerMixin
+    from ..utils._per_press import PerPressTransformerMixin
 
     check_memory(memory)  # the error a step would raise at fit, now
     for path, step in pipe.get_params(deep=True).items():

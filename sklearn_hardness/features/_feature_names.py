@@ -1,27 +1,8 @@
-"""Named output columns of the feature transformers: checking a ``features`` parameter, and the
-contact-profile features' names (``model_selection`` shares one pass among prefixes by them)."""
+"""Named output columns of the feature transformers: checking a ``features`` parameter."""
 
 from __future__ import annotations
 
-__all__ = ["CONTACT_PROFILE_FEATURE_NAMES", "check_feature_names", "feature_columns"]
-
-#: Every feature of :class:`~sklearn_hardness.features.ContactProfileFeatures`, in output order when
-#: ``features="all"`` (the last two, ``log_loading_time`` and ``log_contact_spread``, were added later).
-CONTACT_PROFILE_FEATURE_NAMES = (
-    "log_peak_change",
-    "peak_over_precontact",
-    "rise_frames",
-    "rise_fraction",
-    "hold_fraction",
-    "area_at_peak",
-    "concentration",
-    "area_intensity_slope",
-    "texture_ratio",
-    "early_late_ratio",
-    "log_loading_time",
-    "log_contact_spread",
-)
-
+__all__ = ["check_feature_names", "feature_columns"]
 
 def check_feature_names(features, known, *, param="features"):
     """The output columns a ``features`` parameter names, as a tuple, checked against ``known``.

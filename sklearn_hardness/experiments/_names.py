@@ -1,13 +1,16 @@
-"""Help texts of the experiments' configuration, importable without torch or scikit-learn.
+"""The experiments' names and help texts, importable without torch or scikit-learn.
 
 The command line builds its parser and ``reproduce --help`` from them (in well
 under a second, without importing the library), and
 :func:`~sklearn_hardness.experiments.get_config`'s docstring is written from
-:data:`KEY_HELP`. The models' names come from :mod:`sklearn_hardness._registry`.
-Nothing here may import anything beyond the standard library.
+:data:`CONFIG_KEYS`. Nothing here may import anything beyond the standard library.
 """
 
-from ._registry import EXPERIMENT_MODELS
+#: The named pipelines the paper's experiments (``reproduce --model``, ``model=``) can run: their runner
+#: trains the pipeline's last step on inputs prepared once per dataset (names of
+#: :func:`sklearn_hardness.models.pipeline_names`).
+EXPERIMENT_MODELS = ("convlstm", "ofnn", "dinov2nn", "contact_profile_nn", "contact_profile", "contact_profile_3",
+                     "contact_geometry", "loading_compliance")
 
 #: The strategies compared by default (BALD is our addition to the paper's three).
 STRATEGIES = ("variance", "entropy", "random", "bald")
@@ -26,7 +29,7 @@ QUICK_OVERRIDES = {
 
 
 #: One line per configuration key: get_config's docstring and ``reproduce --help`` are made from it.
-KEY_HELP = {
+CONFIG_KEYS = {
     "model": f"classifier, a named pipeline among {', '.join(EXPERIMENT_MODELS)} (models.pipeline_info "
              "says what each is; the presets: convlstm for silicone5, dinov2nn for shore9); the logistic heads "
              "(contact_profile, contact_profile_3, contact_geometry, loading_compliance) are refitted at each "
