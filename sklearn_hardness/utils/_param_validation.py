@@ -3,7 +3,7 @@
 Every ``_parameter_constraints`` table, ``validate_params`` decorator and
 ``fit``-context of the package comes from here, and the package imports no
 private module or private name of scikit-learn, skorch or torch anywhere
-(``tests/test_package_boundary.py`` checks it), so a new scikit-learn release
+(``tests/test_import_boundaries.py`` checks it), so a new scikit-learn release
 that reorganises its private code cannot break it.
 
 The first part is a vendored copy of scikit-learn's private
