@@ -53,6 +53,7 @@ from sklearn_hardness.utils._param_validation import (
     make_constraint,
     validate_params,
 )
+from sklearn_hardness.utils._torch import TorchDevices
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 NOTICE = "LICENSES/scikit-learn.txt"
@@ -83,6 +84,7 @@ def test_the_wheel_carries_scikit_learn_s_licence_for_the_vendored_code():
     Pair(Interval(Real, 0, 1, closed="both"), "(a, b)"),
     Pair(StrOptions({"x", "y"}), "(first, second)"),
     ValueRange(),
+    TorchDevices(),
 ])
 def test_generated_values_of_our_own_constraints(constraint):
     assert not constraint.is_satisfied_by(generate_invalid_param_val(constraint))

@@ -46,7 +46,8 @@ ones (``sklearn.get_config`` and ``sklearn.config_context``) and by a copy of
 (so that our own constraints below need no trick); the test helpers
 ``generate_invalid_param_val`` and ``generate_valid_param`` (which
 :func:`sklearn_hardness.utils.estimator_checks.check_param_validation` uses)
-also make values for our own constraints. Error messages keep scikit-learn's
+also make values for our own constraints (those with ``_invalid_value`` and
+``_valid_value`` methods). Error messages keep scikit-learn's
 format, and :class:`InvalidParameterError` is, like scikit-learn's, both a
 ``ValueError`` and a ``TypeError``. Lines that differ from scikit-learn's
 say ``# vendored``. tests/test_param_validation.py carries scikit-learn's
@@ -860,7 +861,7 @@ def generate_invalid_param_val(constraint):
     val : object
         A value that does not satisfy the constraint.
     """
-    if isinstance(constraint, (Pair, ValueRange)):  # vendored: the constraints of the second part
+    if hasattr(constraint, "_invalid_value"):  # vendored: our own constraints make their own values
         return constraint._invalid_value()
 
     if isinstance(constraint, StrOptions):
@@ -923,7 +924,7 @@ def generate_valid_param(constraint):
     val : object
         A value that does satisfy the constraint.
     """
-    if isinstance(constraint, (Pair, ValueRange)):  # vendored: the constraints of the second part
+    if hasattr(constraint, "_valid_value"):  # vendored: our own constraints make their own values
         return constraint._valid_value()
 
     if isinstance(constraint, _ArrayLikes):
