@@ -387,7 +387,7 @@ def test_results_record_with_a_malformed_key_names_the_line(tmp_path):
 def test_parameter_validation_is_the_package_s_own_and_scikit_learn_is_not_capped():
     """Policy: every constraint table and validation decorator of the package comes from its own
     vendored copy of scikit-learn's parameter validation (``sklearn_hardness/utils/_param_validation.py``;
-    tests/test_package_boundary.py checks that nothing imports scikit-learn's private modules), so
+    tests/test_import_boundaries.py checks that nothing imports scikit-learn's private modules), so
     scikit-learn has a floor and no upper bound, and our constraints raise our
     ``InvalidParameterError`` (a ValueError and a TypeError) in scikit-learn's message format."""
     import importlib
@@ -407,13 +407,9 @@ def test_parameter_validation_is_the_package_s_own_and_scikit_learn_is_not_cappe
     assert issubclass(pv.InvalidParameterError, ValueError) and issubclass(pv.InvalidParameterError, TypeError)
 
     # every table of the package is made of constraints our make_constraint takes
-    from .test_import_boundaries import PRIVATE_THIRD_PARTY_ALLOWED
-
-    # modules that another change rewrites still build their tables from scikit-learn's classes
-    still_private = {path[:-3].replace("/", ".") for path, _ in PRIVATE_THIRD_PARTY_ALLOWED}
     tables = {}
     for info in pkgutil.walk_packages(sklearn_hardness.__path__, "sklearn_hardness."):
-        if info.name.endswith(".__main__") or info.name in still_private:  # __main__ runs the CLI
+        if info.name.endswith(".__main__"):  # __main__ runs the CLI
             continue
         module = importlib.import_module(info.name)
         for name, obj in vars(module).items():

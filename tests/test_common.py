@@ -9,7 +9,7 @@ As in imbalanced-learn's ``tests/test_common.py`` and scikit-learn's
 - ``EXPECTED_FAILED_CHECKS``: every check an estimator is known to fail
   today, each with its reason.
 
-Three families of checks run:
+Four families of checks run:
 
 1. scikit-learn's ``parametrize_with_checks`` on every estimator. Its tags
    decide what runs: for 2-D estimators (the OFNN and DINOv2NN heads) the
@@ -22,6 +22,13 @@ Three families of checks run:
    n_jobs invariance, sample-order invariance, input left unchanged, tags
    matching the input. They run on every estimator with its own input.
 
+4. Parameter validation (``check_param_validation``, as scikit-learn's and
+   imbalanced-learn's ``test_check_param_validation``) on every public
+   estimator, found through the subpackages' ``__all__``, and scikit-learn's
+   ``test_public_functions`` check on every public function decorated with
+   ``validate_params``: each constrained parameter given an invalid value
+   raises our ``InvalidParameterError`` naming it.
+
 The video checks are public (:mod:`sklearn_hardness.utils.estimator_checks`),
 so users of our estimators can run them on theirs. Every expected failure is
 strict (``xfail_strict = true`` in pyproject.toml, which scikit-learn's marks
@@ -32,8 +39,8 @@ silently go stale.
 
 from __future__ import annotations
 
-import importlib
 import inspect
+import types
 import warnings
 
 import numpy as np
@@ -44,6 +51,7 @@ from sklearn.datasets import make_blobs
 from sklearn.utils import estimator_checks as ec
 from sklearn.utils import get_tags
 
+import sklearn_hardness
 from sklearn_hardness.active import ActiveLearner
 from sklearn_hardness.features import (
     ContactGeometryFeatures,
@@ -59,14 +67,22 @@ from sklearn_hardness.models import (
     ConvLSTMClassifier,
     DINOv2NNClassifier,
     EnsembleClassifier,
+    FrameAugmenter,
     ImprintCNNClassifier,
     LaplaceLogisticRegression,
+    MCDropoutPipeline,
     OFNNClassifier,
 )
 from sklearn_hardness.models._intensity_channels import IntensityChannels
 from sklearn_hardness.models._pipelines import FrameScaler
 from sklearn_hardness.preprocessing import ContactFrameSelector
-from sklearn_hardness.utils.estimator_checks import parametrize_with_video_checks
+from sklearn_hardness.utils._param_validation import InvalidParameterError, generate_valid_param, make_constraint
+from sklearn_hardness.utils.estimator_checks import (
+    _invalid_values,
+    _parameter_error_message,
+    check_param_validation,
+    parametrize_with_video_checks,
+)
 
 from ._synthetic import hertz_press, synthetic_press
 
@@ -123,9 +139,11 @@ ESTIMATORS = {
 #: Public estimator-like classes deliberately not in ESTIMATORS, with the reason.
 NOT_CHECKED = {
     "MCDropoutClassifierBase": "abstract base of the nets (no module); checked through its subclasses",
-    "MCDropoutPipeline": "a sklearn Pipeline (meta-estimator); its steps are checked one by one",
+    "MCDropoutPipeline": "a sklearn Pipeline (meta-estimator); its steps are checked one by one "
+    "(its parameters: test_check_param_validation)",
     "FrameAugmenter": "a parameter object of ConvLSTMClassifier (no fit, predict or transform); "
-    "its get_params/clone are checked through the net's, in tests/test_models_augmentation.py",
+    "its get_params/clone are checked through the net's, in tests/test_models_augmentation.py "
+    "(its parameters: test_check_param_validation)",
 }
 
 # ------------------------------------------------------------------ table 2
@@ -188,15 +206,25 @@ def _expected_failed_checks(estimator):
 
 
 # ----------------------------------------------------------- completeness
-def _public_estimator_classes():
+def _public(predicate):
+    """``name -> object`` for every name in the ``__all__`` of a public subpackage that ``predicate`` takes.
+
+    The subpackages are those ``sklearn_hardness.__all__`` names, so that what becomes public or
+    private later is found (or left) without a list here."""
     found = {}
-    for sub in ("preprocessing", "features", "models", "active", "datasets", "metrics", "io", "experiments"):
-        mod = importlib.import_module(f"sklearn_hardness.{sub}")
+    for sub in sklearn_hardness.__all__:
+        mod = getattr(sklearn_hardness, sub)  # imports the subpackage
+        if not isinstance(mod, types.ModuleType):  # __version__
+            continue
         for name in getattr(mod, "__all__", []):
             obj = getattr(mod, name)
-            if inspect.isclass(obj) and issubclass(obj, BaseEstimator):
+            if predicate(obj):
                 found[name] = obj
     return found
+
+
+def _public_estimator_classes():
+    return _public(lambda obj: inspect.isclass(obj) and issubclass(obj, BaseEstimator))
 
 
 def test_every_public_estimator_is_in_the_tables():
@@ -331,3 +359,94 @@ def test_tags_match_the_input_table():
 def test_expected_failures_are_strict(pytestconfig):
     """scikit-learn's xfail marks carry no strict= of their own: pyproject.toml's xfail_strict decides."""
     assert pytestconfig.getini("xfail_strict") is True
+
+
+# --------------------------------------------------- 4. parameter validation
+#: Public estimators whose parameters scikit-learn validates, not our machinery: they inherit a
+#: scikit-learn class's table and raise scikit-learn's own InvalidParameterError. scikit-learn's
+#: public ``check_param_validation`` runs on them instead (it needs 2-D input, which both take).
+SKLEARN_VALIDATED = {
+    "LaplaceLogisticRegression": (
+        LaplaceLogisticRegression,
+        "a LogisticRegression: scikit-learn's table and its fit validate the parameters (it adds none)"),
+    "MCDropoutPipeline": (
+        lambda: MCDropoutPipeline([("clf", _ofnn())]),
+        "a Pipeline: scikit-learn's table and its fit validate steps, memory, transform_input and verbose; "
+        "the steps are checked one by one"),
+}
+
+#: How the check runs public estimators that ESTIMATORS does not build: name -> (factory, data, methods).
+PARAM_CHECK_CASES = {
+    # a parameter object of ConvLSTMClassifier: its augment(X) validates the parameters
+    "FrameAugmenter": (FrameAugmenter, lambda: (torch.from_numpy(_frames()[0]), None), ("augment",)),
+}
+
+_PUBLIC_ESTIMATORS = sorted(_public_estimator_classes())
+
+
+def _param_check_case(name):
+    if name in PARAM_CHECK_CASES:
+        return PARAM_CHECK_CASES[name]
+    assert name in ESTIMATORS, f"add {name} to ESTIMATORS (or PARAM_CHECK_CASES, saying how to run it)"
+
+    def factory():
+        estimator = _build(name)
+        # the check is about parameters, not training: a net fits for no epoch (max_epochs=0 is valid)
+        return estimator.set_params(max_epochs=0) if "max_epochs" in estimator.get_params(deep=False) else estimator
+
+    return factory, lambda: _data(name), None
+
+
+@pytest.mark.parametrize("name", _PUBLIC_ESTIMATORS)
+def test_check_param_validation(name):
+    if name in SKLEARN_VALIDATED:
+        factory = SKLEARN_VALIDATED[name][0]
+        owner = next(k for k in type(factory()).__mro__ if "_parameter_constraints" in vars(k))
+        assert owner.__module__.startswith("sklearn."), f"{name}'s table is {owner.__module__}'s: drop it here"
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # convergence and deprecation warnings of the fits
+            ec.check_param_validation(name, factory())
+        return
+    factory, data, methods = _param_check_case(name)
+    check_param_validation(name, factory(), *data(), methods=methods)
+
+
+def test_the_parameter_check_tables_name_public_estimators():
+    assert set(SKLEARN_VALIDATED) | set(PARAM_CHECK_CASES) <= set(_PUBLIC_ESTIMATORS)
+    assert all(reason for _, reason in SKLEARN_VALIDATED.values())
+
+
+_VALIDATED_FUNCTIONS = _public(lambda obj: inspect.isfunction(obj) and hasattr(obj, "_skl_parameter_constraints"))
+
+
+def _check_function_param_validation(name, func):
+    """scikit-learn's ``_check_function_param_validation`` (sklearn/tests/test_public_functions.py)."""
+    constraints = func._skl_parameter_constraints
+    signature = inspect.signature(func)
+    own = [p for p in signature.parameters.values() if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)]
+    assert set(constraints) == {p.name for p in own}, (
+        f"Mismatch between the constraints and the parameters of {name}: "
+        f"{sorted(set(constraints) ^ {p.name for p in own})}")
+    required = {
+        p.name: 1 if constraints[p.name] == "no_validation" else generate_valid_param(
+            make_constraint(constraints[p.name][0]))
+        for p in own if p.default is p.empty
+    }
+    for param in (p.name for p in own):
+        if constraints[param] == "no_validation":
+            continue
+        for bad in _invalid_values(name, param, constraints[param]):
+            with pytest.raises(InvalidParameterError) as exc_info:
+                func(**{**required, param: bad})
+            assert _parameter_error_message(param, func.__qualname__).search(str(exc_info.value)), (
+                f"{name} with {param}={bad!r}: {exc_info.value}")
+
+
+def test_public_functions_are_found():
+    assert {"read_video", "hardness_mae", "entropy_sampling", "load_press_videos"} <= set(_VALIDATED_FUNCTIONS)
+
+
+@pytest.mark.parametrize("name", sorted(_VALIDATED_FUNCTIONS))
+def test_function_param_validation(name):
+    _check_function_param_validation(name, _VALIDATED_FUNCTIONS[name])
+

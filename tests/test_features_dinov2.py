@@ -169,6 +169,9 @@ def test_bad_inputs(X, backbone):
         ({"image_size": (0, 14)}, InvalidParameterError, "'image_size' parameter"),
         ({"dtype": "int8"}, InvalidParameterError, "'dtype' parameter"),
         ({"device": 3}, InvalidParameterError, "'device' parameter"),
+        ({"device": "gpu"}, InvalidParameterError, "'device' parameter of DINOv2Features must be 'cpu', 'cuda', "
+                                                   "'auto', a torch device string or a torch.device. Got 'gpu'"),
+        ({"dtype": torch.int64}, InvalidParameterError, r"'dtype' parameter .* or a torch.dtype among .*torch.int64"),
         ({"model": 3}, InvalidParameterError, "'model' parameter"),
         ({"value_range": (0, 0)}, InvalidParameterError, "'value_range' parameter"),
     ]:

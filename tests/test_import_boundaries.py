@@ -35,17 +35,6 @@ INTERNAL_MODULES = ("torch.nn.modules",)
 #: under its utilities, and its newer releases put it in ``sklearn.utils.__all__``).
 PUBLIC_UNDERSCORE_NAMES = {("sklearn.utils", "_safe_indexing")}
 
-#: Files that another change rewrites right now, with the imports they still make. Both tables
-#: must end EMPTY: delete an entry as soon as its file no longer makes that import (the test
-#: fails on a stale entry too).
-PRIVATE_THIRD_PARTY_ALLOWED = set()
-CROSS_SUBPACKAGE_ALLOWED = set()
-
-
-#: Private cross-imports still to fix (issue 59 item 8 is done: keep it EMPTY; nothing may be added).
-CROSS_SUBPACKAGE_PENDING = set()
-
-
 def _private(part):
     return part.startswith("_") and not (part.startswith("__") and part.endswith("__"))
 
@@ -128,19 +117,14 @@ def _rel(path):
 
 
 def test_no_private_scikit_learn_skorch_or_torch_outside_the_compat_module():
-    offenders, used_allowances = [], set()
-    for path in _modules():
-        if _rel(path) == COMPAT_MODULE:
-            continue
-        for dotted, line in sorted(_third_party_violations(path.read_text(), _rel(path))):
-            if (_rel(path), dotted) in PRIVATE_THIRD_PARTY_ALLOWED:
-                used_allowances.add((_rel(path), dotted))
-            else:
-                offenders.append(f"{_rel(path)}:{line}: {dotted}")
+    offenders = [
+        f"{_rel(path)}:{line}: {dotted}"
+        for path in _modules() if _rel(path) != COMPAT_MODULE
+        for dotted, line in sorted(_third_party_violations(path.read_text(), _rel(path)))
+    ]
     assert offenders == [], (
         "private scikit-learn/skorch/torch code used; take the public name, or add what is missing "
         f"to {COMPAT_MODULE}:\n" + "\n".join(offenders))
-    assert PRIVATE_THIRD_PARTY_ALLOWED - used_allowances == set(), "stale allowlist entries: delete them"
 
 
 def test_public_underscore_names_are_still_public():
@@ -156,18 +140,14 @@ def test_public_underscore_names_are_still_public():
 
 
 def test_subpackages_meet_through_public_or_utils_names():
-    offenders, used_allowances = [], set()
-    for path in _modules():
-        for dotted, line in sorted(_cross_subpackage_violations(path.read_text(), _rel(path))):
-            if (_rel(path), dotted) in CROSS_SUBPACKAGE_ALLOWED | CROSS_SUBPACKAGE_PENDING:
-                used_allowances.add((_rel(path), dotted))
-            else:
-                offenders.append(f"{_rel(path)}:{line}: {dotted}")
+    offenders = [
+        f"{_rel(path)}:{line}: {dotted}"
+        for path in _modules()
+        for dotted, line in sorted(_cross_subpackage_violations(path.read_text(), _rel(path)))
+    ]
     assert offenders == [], (
         "a subpackage imports another subpackage's private module or name; import the public name "
         "from its __init__, or move a shared helper to sklearn_hardness/utils/:\n" + "\n".join(offenders))
-    stale = (CROSS_SUBPACKAGE_ALLOWED | CROSS_SUBPACKAGE_PENDING) - used_allowances
-    assert stale == set(), "stale allowlist entries: delete them"
 
 
 @pytest.mark.parametrize("source, expected", [

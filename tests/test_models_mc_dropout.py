@@ -272,6 +272,13 @@ def test_bad_parameters(case):
         cls(class_weight="uniform", **kw).fit(X, y)
     with pytest.raises(InvalidParameterError, match="lr"):
         cls(lr=-1.0, **kw).fit(X, y)
+    # skorch's own parameters too, before any training
+    with pytest.raises(InvalidParameterError, match="The 'device' parameter of .* Got 'gpu' instead"):
+        cls(device="gpu", **kw).fit(X, y)
+    with pytest.raises(InvalidParameterError, match="The 'callbacks' parameter of .* Got 'all' instead"):
+        cls(callbacks="all", **kw).fit(X, y)
+    with pytest.raises(InvalidParameterError, match="The 'train_split' parameter of .* Got 0.2 instead"):
+        cls(train_split=0.2, **kw).fit(X, y)
 
 
 def test_device_auto_is_kept_as_parameter(case):

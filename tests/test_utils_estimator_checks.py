@@ -1,4 +1,6 @@
-"""The public video checks pass good estimators and catch the faults they are named after."""
+"""The public checks pass good estimators and catch the faults they are named after."""
+
+from numbers import Integral, Real
 
 import numpy as np
 import pytest
@@ -6,9 +8,16 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
 from sklearn_hardness.models._pipelines import FrameScaler
+from sklearn_hardness.utils._param_validation import (
+    Interval,
+    InvalidParameterError,
+    fit_context,
+    validate_estimator_params,
+)
 from sklearn_hardness.utils._tags import frames_tags
 from sklearn_hardness.utils.estimator_checks import (
     VIDEO_CHECKS,
+    check_param_validation,
     check_tags_match_input,
     check_video_estimator,
     check_video_input_unchanged,
@@ -78,3 +87,82 @@ def test_expected_failures_are_not_run():
     passed = check_video_estimator(_Scaler(fault="tags"), X, y,
                                    expected_failed_checks={"check_tags_match_input": "known"})
     assert "check_tags_match_input" not in passed and len(passed) == len(VIDEO_CHECKS) - 1
+
+
+# ---------------------------------------------------------------- check_param_validation
+class _Thresholder(TransformerMixin, BaseEstimator):
+    """A frames transformer whose parameter validation can be broken in each way the check looks for."""
+
+    _parameter_constraints = {"k": [Interval(Integral, 1, None, closed="left")], "fault": [str, None]}
+
+    def __init__(self, k=1, fault=None):
+        self.k = k
+        self.fault = fault
+
+    @fit_context(prefer_skip_nested_validation=True)
+    def _validated_fit(self, X, y=None):
+        return self
+
+    def fit(self, X, y=None):
+        if self.fault == "unvalidated":
+            return self
+        if self.fault == "own message" and not (isinstance(self.k, Integral) and self.k >= 1):
+            raise InvalidParameterError(f"k must be positive, got {self.k!r}")
+        if self.fault == "stricter" and self.k != 1:
+            raise InvalidParameterError(f"The 'k' parameter of _Thresholder must be 1. Got {self.k!r} instead.")
+        return self._validated_fit(X, y)
+
+    def transform(self, X):
+        return X
+
+    def __sklearn_tags__(self):
+        return frames_tags(super().__sklearn_tags__())
+
+
+def _with_fault(fault):
+    class Faulty(_Thresholder):
+        pass
+
+    Faulty.__name__ = "_Thresholder"
+    if fault == "missing constraint":
+        Faulty._parameter_constraints = {"k": _Thresholder._parameter_constraints["k"]}
+    elif fault == "mixed intervals":
+        Faulty._parameter_constraints = {**_Thresholder._parameter_constraints,
+                                         "k": [Interval(Integral, 1, None, closed="left"),
+                                               Interval(Real, 0, 1, closed="both")]}
+    return Faulty(fault=None if fault in ("missing constraint", "mixed intervals") else fault)
+
+
+def test_the_parameter_check_passes_a_good_estimator():
+    X, y = _frames()
+    check_param_validation("_Thresholder", _Thresholder(), X, y)
+
+
+@pytest.mark.parametrize("fault, message", [
+    ("missing constraint", r"parameters without constraints \['fault'\]"),
+    ("mixed intervals", "mix intervals of Integral and Real"),
+    ("unvalidated", "raised no InvalidParameterError"),
+    ("own message", r"does not say \"The 'k' parameter of _Thresholder must be"),
+    ("stricter", "a value its constraints accept, raised a parameter error"),
+])
+def test_the_parameter_check_catches_each_fault(fault, message):
+    X, y = _frames()
+    with pytest.raises(AssertionError, match=message):
+        check_param_validation("_Thresholder", _with_fault(fault), X, y)
+
+
+def test_the_parameter_check_needs_a_method_that_validates():
+    class Mirror(BaseEstimator):  # no fit: like FrameAugmenter, its own method validates
+        _parameter_constraints = {"k": [Interval(Integral, 1, None, closed="left")]}
+
+        def __init__(self, k=1):
+            self.k = k
+
+        def apply(self, X, y=None):
+            validate_estimator_params(self)
+            return X[..., ::-1]
+
+    X, y = _frames()
+    with pytest.raises(AssertionError, match="pass the methods that validate its parameters"):
+        check_param_validation("Mirror", Mirror(), X, y)
+    check_param_validation("Mirror", Mirror(), X, y, methods=("apply",))

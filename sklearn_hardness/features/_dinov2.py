@@ -16,7 +16,7 @@ from sklearn.utils.validation import check_is_fitted
 from ..utils._param_validation import (
     HasMethods,
     Interval,
-    InvalidParameterError,
+    Options,
     Pair,
     StrOptions,
     ValueRange,
@@ -24,6 +24,7 @@ from ..utils._param_validation import (
 )
 from ..utils._per_press import PerPressTransformerMixin, transform_presses
 from ..utils._tags import frames_tags
+from ..utils._torch import TorchDevices
 from ..utils._validation import check_frames_array
 from ._common import sample_range
 
@@ -84,9 +85,10 @@ class DINOv2Features(PerPressTransformerMixin, TransformerMixin, BaseEstimator):
         values, as in DINOv2's linear evaluation).
     batch_size : int, default=32
         Number of frames per forward pass.
-    device : {"cpu", "cuda", "auto"} or str, default="cpu"
-        Where the backbone runs; ``"auto"`` picks CUDA when available. The
-        output is always a NumPy array in host memory.
+    device : {"cpu", "cuda", "auto"}, str or torch.device, default="cpu"
+        Where the backbone runs (any device string torch takes, e.g.
+        ``"cuda:1"``); ``"auto"`` picks CUDA when available. The output is
+        always a NumPy array in host memory.
     image_size : int or tuple of int (height, width), default=224
         Size the frames are resized to (bilinear with antialiasing), after
         rounding each side down to a multiple of the backbone's patch size
@@ -106,7 +108,7 @@ class DINOv2Features(PerPressTransformerMixin, TransformerMixin, BaseEstimator):
         Passed to ``from_pretrained`` for a model id: True never tries the
         network (the environment variable ``HF_HUB_OFFLINE=1`` does the
         same).
-    dtype : {"float32", "float16", "bfloat16"} or torch.dtype, default="float32"
+    dtype : {"float32", "float16", "bfloat16"} or one of those torch.dtype, default="float32"
         Precision of the backbone's computation (half precision mainly
         pays on a GPU). The output is float32.
     memory : None, str or object with the joblib.Memory interface, default=None
@@ -170,14 +172,14 @@ class DINOv2Features(PerPressTransformerMixin, TransformerMixin, BaseEstimator):
         "model": [str, os.PathLike, torch.nn.Module],
         "token": [StrOptions(set(_TOKENS))],
         "batch_size": [Interval(Integral, 1, None, closed="left")],
-        "device": [str, torch.device],
+        "device": [TorchDevices()],
         "image_size": [
             Interval(Integral, 1, None, closed="left"),
             Pair(Interval(Integral, 1, None, closed="left"), "(height, width)"),
         ],
         "value_range": [None, ValueRange()],
         "local_files_only": ["boolean"],
-        "dtype": [StrOptions(set(_DTYPES)), torch.dtype],
+        "dtype": [StrOptions(set(_DTYPES)), Options(torch.dtype, set(_DTYPES.values()))],
         "memory": [None, str, HasMethods(["cache"])],
     }
 
@@ -395,33 +397,20 @@ def _last_hidden(out):
 
 
 def _resolve_device(device):
-    """A str or torch.device (checked by the constraints) -> an available torch.device."""
+    """A device the constraints took (TorchDevices) -> an available torch.device."""
     if isinstance(device, torch.device):
         return device
     if device == "auto":
         return torch.device("cuda" if torch.cuda.is_available() else "cpu")
-    try:
-        dev = torch.device(device)
-    except RuntimeError as exc:
-        raise InvalidParameterError(
-            f"The 'device' parameter of DINOv2Features must be 'cpu', 'cuda', 'auto' or a torch "
-            f"device string. Got {device!r} instead."
-        ) from exc
+    dev = torch.device(device)
     if dev.type == "cuda" and not torch.cuda.is_available():
         raise ValueError(f"device={device!r} was asked for but CUDA is not available; use 'cpu' or 'auto'.")
     return dev
 
 
 def _resolve_dtype(dtype):
-    """A dtype name or torch.dtype (checked by the constraints) -> a supported torch.dtype."""
-    if isinstance(dtype, torch.dtype):
-        if dtype not in _DTYPES.values():
-            raise InvalidParameterError(
-                "The 'dtype' parameter of DINOv2Features must be torch.float32, torch.float16 or "
-                f"torch.bfloat16. Got {dtype} instead."
-            )
-        return dtype
-    return _DTYPES[dtype]
+    """A dtype name or torch.dtype the constraints took -> the torch.dtype."""
+    return dtype if isinstance(dtype, torch.dtype) else _DTYPES[dtype]
 
 
 def _image_size_pair(image_size):

@@ -36,6 +36,7 @@ from skorch.callbacks import Callback
 from skorch.dataset import Dataset
 
 from ..utils._param_validation import (
+    HasMethods,
     Interval,
     InvalidParameterError,
     Options,
@@ -43,7 +44,7 @@ from ..utils._param_validation import (
     validate_parameter_constraints,
 )
 from ..utils._random import draw_seeds
-from ..utils._torch import resolve_device, seeded_torch_rng
+from ..utils._torch import TorchDevices, resolve_device, seeded_torch_rng
 from ._mc_sampling import MC_MEMORY_BUDGET, MCDropout, dropout_generator, sample_proba, softmax
 from ._persistence import NetPersistenceMixin
 
@@ -100,8 +101,21 @@ class MCDropoutClassifierBase(NetPersistenceMixin, NeuralNetClassifier):
         "classes": ["array-like", None],
         "class_weight": [dict, StrOptions({"balanced"}), None],
         "verbose": ["verbose"],
-        "device": [str, torch.device, None],
+        "device": [TorchDevices(), None],
         "warm_start": ["boolean"],
+        # skorch's own parameters, as skorch.NeuralNet documents them
+        "module": [HasMethods(["forward"])],  # a torch.nn.Module class or instance
+        "criterion": [callable],
+        "optimizer": [callable],
+        "iterator_train": [callable],
+        "iterator_valid": [callable],
+        "dataset": [callable],
+        "train_split": [callable, None],
+        "callbacks": [list, StrOptions({"disable"}), None],
+        "predict_nonlinearity": [callable, StrOptions({"auto"}), None],
+        "compile": ["boolean"],
+        "use_caching": ["boolean", StrOptions({"auto"})],
+        "torch_load_kwargs": [dict, None],
     }
     _input_meta_attrs = ()
     _predict_proba_samples_constraints = {

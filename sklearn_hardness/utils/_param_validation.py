@@ -3,7 +3,7 @@
 Every ``_parameter_constraints`` table, ``validate_params`` decorator and
 ``fit``-context of the package comes from here, and the package imports no
 private module or private name of scikit-learn, skorch or torch anywhere
-(``tests/test_package_boundary.py`` checks it), so a new scikit-learn release
+(``tests/test_import_boundaries.py`` checks it), so a new scikit-learn release
 that reorganises its private code cannot break it.
 
 The first part is a vendored copy of scikit-learn's private
@@ -43,11 +43,17 @@ imbalanced-learn keeps one of its own. It is BSD-3-Clause licensed:
 Changes to the copy: scikit-learn's private imports are replaced by public
 ones (``sklearn.get_config`` and ``sklearn.config_context``) and by a copy of
 ``_is_arraylike_not_scalar``; ``make_constraint`` accepts any ``_Constraint``
-(so that our own constraints below need no trick); the test-only helpers
-``generate_invalid_param_val`` and ``generate_valid_param`` are left out.
-Error messages keep scikit-learn's format, and
-:class:`InvalidParameterError` is, like scikit-learn's, both a
-``ValueError`` and a ``TypeError``.
+(so that our own constraints below need no trick); the test helpers
+``generate_invalid_param_val`` and ``generate_valid_param`` (which
+:func:`sklearn_hardness.utils.estimator_checks.check_param_validation` uses)
+also make values for our own constraints (those with ``_invalid_value`` and
+``_valid_value`` methods). Error messages keep scikit-learn's
+format, and :class:`InvalidParameterError` is, like scikit-learn's, both a
+``ValueError`` and a ``TypeError``. Lines that differ from scikit-learn's
+say ``# vendored``. tests/test_param_validation.py carries scikit-learn's
+tests of the module, and tests/test_param_validation_parity.py checks that
+the copy accepts and rejects what the installed scikit-learn's accepts and
+rejects, with the same messages.
 
 The second part is ours: :func:`fit_context` and
 :func:`validate_estimator_params` (the equivalents of scikit-learn's private
@@ -74,13 +80,13 @@ from inspect import signature
 from numbers import Integral, Real
 
 import numpy as np
-from scipy.sparse import issparse
-from sklearn import config_context, get_config
-from sklearn.exceptions import NotFittedError
-from sklearn.utils.validation import check_is_fitted
+from scipy.sparse import csr_array, issparse
+from sklearn import config_context, get_config  # vendored: the public names
+from sklearn.exceptions import NotFittedError  # for the second part
+from sklearn.utils.validation import check_is_fitted  # for the second part
 
 
-# from sklearn/utils/validation.py (private there)
+# vendored: from sklearn/utils/validation.py (private there)
 def _is_arraylike(x):
     """Returns whether the input is array-like."""
     if issparse(x):
@@ -838,6 +844,158 @@ class Hidden:
         self.constraint = constraint
 
 
+def generate_invalid_param_val(constraint):
+    """Return a value that does not satisfy the constraint.
+
+    Raises a NotImplementedError if there exists no invalid value for this constraint.
+
+    This is only useful for testing purpose.
+
+    Parameters
+    ----------
+    constraint : _Constraint instance
+        The constraint to generate a value for.
+
+    Returns
+    -------
+    val : object
+        A value that does not satisfy the constraint.
+    """
+    if hasattr(constraint, "_invalid_value"):  # vendored: our own constraints make their own values
+        return constraint._invalid_value()
+
+    if isinstance(constraint, StrOptions):
+        return f"not {' or '.join(constraint.options)}"
+
+    if isinstance(constraint, MissingValues):
+        return np.array([1, 2, 3])
+
+    if isinstance(constraint, _VerboseHelper):
+        return -1
+
+    if isinstance(constraint, HasMethods):
+        return type("HasNotMethods", (), {})()
+
+    if isinstance(constraint, _IterablesNotString):
+        return "a string"
+
+    if isinstance(constraint, _CVObjects):
+        return "not a cv object"
+
+    if isinstance(constraint, Interval) and constraint.type is Integral:
+        if constraint.left is not None:
+            return constraint.left - 1
+        if constraint.right is not None:
+            return constraint.right + 1
+
+        # There's no integer outside (-inf, +inf)
+        raise NotImplementedError
+
+    if isinstance(constraint, Interval) and constraint.type in (Real, RealNotInt):
+        if constraint.left is not None:
+            return constraint.left - 1e-6
+        if constraint.right is not None:
+            return constraint.right + 1e-6
+
+        # bounds are -inf, +inf
+        if constraint.closed in ("right", "neither"):
+            return -np.inf
+        if constraint.closed in ("left", "neither"):
+            return np.inf
+
+        # interval is [-inf, +inf]
+        return np.nan
+
+    raise NotImplementedError
+
+
+def generate_valid_param(constraint):
+    """Return a value that does satisfy a constraint.
+
+    This is only useful for testing purpose.
+
+    Parameters
+    ----------
+    constraint : Constraint instance
+        The constraint to generate a value for.
+
+    Returns
+    -------
+    val : object
+        A value that does satisfy the constraint.
+    """
+    if hasattr(constraint, "_valid_value"):  # vendored: our own constraints make their own values
+        return constraint._valid_value()
+
+    if isinstance(constraint, _ArrayLikes):
+        return np.array([1, 2, 3])
+
+    if isinstance(constraint, _SparseMatrices):
+        return csr_array([[0, 1], [1, 0]])
+
+    if isinstance(constraint, _RandomStates):
+        return np.random.RandomState(42)
+
+    if isinstance(constraint, _Callables):
+        return lambda x: x
+
+    if isinstance(constraint, _NoneConstraint):
+        return None
+
+    if isinstance(constraint, _InstancesOf):
+        if constraint.type is np.ndarray:
+            # special case for ndarray since it can't be instantiated without arguments
+            return np.array([1, 2, 3])
+
+        if constraint.type in (Integral, Real):
+            # special case for Integral and Real since they are abstract classes
+            return 1
+
+        return constraint.type()
+
+    if isinstance(constraint, _Booleans):
+        return True
+
+    if isinstance(constraint, _VerboseHelper):
+        return 1
+
+    if isinstance(constraint, MissingValues) and constraint.numeric_only:
+        return np.nan
+
+    if isinstance(constraint, MissingValues) and not constraint.numeric_only:
+        return "missing"
+
+    if isinstance(constraint, HasMethods):
+        return type(
+            "ValidHasMethods", (), {m: lambda self: None for m in constraint.methods}
+        )()
+
+    if isinstance(constraint, _IterablesNotString):
+        return [1, 2, 3]
+
+    if isinstance(constraint, _CVObjects):
+        return 5
+
+    if isinstance(constraint, Options):  # includes StrOptions
+        for option in constraint.options:
+            return option
+
+    if isinstance(constraint, Interval):
+        interval = constraint
+        if interval.left is None and interval.right is None:
+            return 0
+        elif interval.left is None:
+            return interval.right - 1
+        elif interval.right is None:
+            return interval.left + 1
+        else:
+            if interval.type is Real:
+                return (interval.left + interval.right) / 2
+            else:
+                return interval.left + 1
+
+    raise ValueError(f"Unknown constraint type: {constraint}")
+
 
 # ----------------------------------------------------------------------------------------------
 # Ours: the fit context and the constraints scikit-learn does not ship
@@ -977,6 +1135,14 @@ class Pair(_Constraint):
     def __str__(self):
         return f"a pair {self.description} of which each is {self.item}"
 
+    def _invalid_value(self):  # for generate_invalid_param_val
+        bad = generate_invalid_param_val(self.item)
+        return (bad, bad)
+
+    def _valid_value(self):  # for generate_valid_param
+        good = generate_valid_param(self.item)
+        return (good, good)
+
 
 class ValueRange(_Constraint):
     """A pair ``(low, high)`` of finite real numbers with ``low < high``.
@@ -1001,6 +1167,12 @@ class ValueRange(_Constraint):
 
     def __str__(self):
         return "a pair (low, high) of finite numbers with low < high, e.g. (0, 1) or (-1, 1)"
+
+    def _invalid_value(self):  # for generate_invalid_param_val
+        return (1, 0)
+
+    def _valid_value(self):  # for generate_valid_param
+        return (0, 1)
 
 
 #: The size of frames fed to a model, ``(height, width)`` with ints >= 2: the one rule for

@@ -7,7 +7,9 @@ import threading
 
 import torch
 
-__all__ = ["GLOBAL_TORCH_RNG_LOCK", "resolve_device", "seeded_torch_rng"]
+from ._param_validation import _Constraint
+
+__all__ = ["GLOBAL_TORCH_RNG_LOCK", "TorchDevices", "resolve_device", "seeded_torch_rng"]
 
 #: Seeding torch's *global* generator (fork_rng + manual_seed) is process-wide: two
 #: threads doing it at once (joblib's threading backend, a Dask cluster of threads)
@@ -28,6 +30,40 @@ def seeded_torch_rng(seed, device=None):
     with GLOBAL_TORCH_RNG_LOCK, torch.random.fork_rng(devices=devices):
         torch.manual_seed(seed)
         yield
+
+
+class TorchDevices(_Constraint):
+    """The constraint of a ``device`` parameter: ``"auto"``, a device string torch takes, or a :class:`torch.device`.
+
+    ``"cpu"``, ``"cuda"``, ``"cuda:1"``, ``"mps"``...: what :class:`torch.device` parses, whether or
+    not that device is present here (a missing GPU is another error, raised where it is used).
+
+    Examples
+    --------
+    >>> from sklearn_hardness.utils._torch import TorchDevices
+    >>> [TorchDevices().is_satisfied_by(d) for d in ("auto", "cuda:1", "gpu", "", 0)]
+    [True, True, False, False, False]
+    """
+
+    def is_satisfied_by(self, val):
+        if isinstance(val, torch.device) or (isinstance(val, str) and val == "auto"):
+            return True
+        if not isinstance(val, str):
+            return False
+        try:
+            torch.device(val)
+        except (RuntimeError, ValueError):
+            return False
+        return True
+
+    def __str__(self):
+        return "'cpu', 'cuda', 'auto', a torch device string or a torch.device"
+
+    def _invalid_value(self):  # for generate_invalid_param_val
+        return "not a device"
+
+    def _valid_value(self):  # for generate_valid_param
+        return "cpu"
 
 
 def resolve_device(device):

@@ -29,17 +29,31 @@ misbehaves.
 
 :func:`check_video_estimator` runs them all; :func:`parametrize_with_video_checks`
 turns them into pytest parameters, with expected failures as strict xfails.
+
+:func:`check_param_validation`, scikit-learn's check of the same name on the
+estimator's own kind of input, is not among them: it is for estimators that
+validate their parameters with this package's ``_parameter_constraints``.
 """
 
 from __future__ import annotations
 
 import pickle
+import re
 import warnings
+from numbers import Integral, Real
 
 import numpy as np
 from sklearn.base import clone
 from sklearn.exceptions import NotFittedError
 from sklearn.utils import get_tags
+
+from ._param_validation import (
+    Interval,
+    InvalidParameterError,
+    generate_invalid_param_val,
+    generate_valid_param,
+    make_constraint,
+)
 
 __all__ = [
     "VIDEO_CHECKS",
@@ -53,6 +67,7 @@ __all__ = [
     "check_video_sample_order_invariance",
     "check_video_input_unchanged",
     "check_tags_match_input",
+    "check_param_validation",
 ]
 
 _OUTPUT_METHODS = ("transform", "predict", "predict_proba")
@@ -313,3 +328,154 @@ def parametrize_with_video_checks(estimators, *, expected_failed_checks=None):
             params.append(pytest.param(name, factory, data, check, marks=marks,
                                        id=f"{name}-{check.__name__}"))
     return pytest.mark.parametrize("name, factory, data, check", params)
+
+
+# ------------------------------------------------------------------ parameter validation
+_FIT_METHODS = ("fit", "partial_fit", "fit_transform", "fit_predict")
+
+
+class _BadType:
+    """An object of a type no constraint accepts."""
+
+
+def _own_parameters(estimator):
+    """``get_params(deep=False)`` less what is not the estimator's own parameter: names with a leading
+    underscore (skorch lists its private attributes) or a ``__`` (keyword arguments skorch passes on to the
+    module, optimizer or iterators: theirs, not the net's)."""
+    return [p for p in estimator.get_params(deep=False) if not p.startswith("_") and "__" not in p]
+
+
+def _invalid_values(caller, param, constraints):
+    """Values of ``param`` that none of its ``constraints`` accepts: an object of no accepted type, and for
+    each constraint the value :func:`generate_invalid_param_val` makes, where there is one."""
+    intervals = {c.type for c in constraints if isinstance(c, Interval)}
+    assert not {Integral, Real} <= intervals, (
+        f"The constraints of {caller}'s {param!r} mix intervals of Integral and Real: use RealNotInt instead "
+        "of Real, so that an invalid value of one is not a valid value of the other.")
+    yield _BadType()
+    for constraint in (make_constraint(c) for c in constraints):
+        try:
+            yield generate_invalid_param_val(constraint)
+        except NotImplementedError:  # every value of its type satisfies it
+            continue
+
+
+def _valid_values(constraints):
+    """For each of ``constraints``, the value :func:`generate_valid_param` makes, where it can make one (a
+    type whose constructor needs arguments has none)."""
+    for constraint in (make_constraint(c) for c in constraints):
+        try:
+            yield generate_valid_param(constraint)
+        except (TypeError, ValueError):
+            continue
+
+
+def _parameter_error_message(param, caller):
+    return re.compile(rf"The {param!r} parameter of {re.escape(caller)} must be .* Got .* instead\.", re.S)
+
+
+def check_param_validation(name, estimator, X, y, *, methods=None):
+    """Each constrained parameter rejects an invalid value with an error naming it, and takes a valid one.
+
+    scikit-learn's ``check_param_validation`` for estimators that declare
+    ``_parameter_constraints`` with this package's validation, on the
+    estimator's own kind of input:
+
+    1. ``_parameter_constraints`` names exactly the parameters of
+       ``get_params(deep=False)``, less those with a leading underscore or a
+       ``__`` (skorch lists its private attributes, and the keyword
+       arguments it passes on to the module, optimizer or iterators);
+    2. for each constrained parameter, an object of no accepted type and,
+       for each of its constraints, the value
+       ``generate_invalid_param_val`` makes: every method of ``methods``
+       raises ``InvalidParameterError`` (a ``ValueError`` and a
+       ``TypeError``) saying ``"The '<param>' parameter of <name> must be
+       ... Got ... instead."``;
+    3. for each constraint, the value ``generate_valid_param`` makes: the
+       first method of ``methods`` raises no ``InvalidParameterError``
+       (another error may still come: a valid value need not suit the data,
+       e.g. ``classes`` that ``y`` does not hold).
+
+    Parameters
+    ----------
+    name : str
+        The estimator's class name, as its error messages say it.
+    estimator : estimator
+        The estimator (not modified: each parameter is set on a clone).
+    X : list of ndarray, ndarray
+        A small input of the estimator's kind.
+    y : array-like of shape (n_samples,) or None
+        Labels with at least two classes, or None.
+    methods : tuple of str or None, default=None
+        The methods that validate the parameters, each called as
+        ``method(X, y)``. None: those of ``fit``, ``partial_fit``,
+        ``fit_transform`` and ``fit_predict`` the estimator has.
+
+    Raises
+    ------
+    AssertionError
+        If a table and the parameters differ, an invalid value passes, its
+        error does not name the parameter, or a valid value is rejected.
+
+    Examples
+    --------
+    >>> from numbers import Integral
+    >>> import numpy as np
+    >>> from sklearn.base import BaseEstimator, TransformerMixin
+    >>> from sklearn_hardness.utils._param_validation import Interval, fit_context
+    >>> from sklearn_hardness.utils.estimator_checks import check_param_validation
+    >>> class Clipper(TransformerMixin, BaseEstimator):
+    ...     _parameter_constraints = {"k": [Interval(Integral, 1, None, closed="left")]}
+    ...     def __init__(self, k=1):
+    ...         self.k = k
+    ...     @fit_context(prefer_skip_nested_validation=True)
+    ...     def fit(self, X, y=None):
+    ...         return self
+    ...     def transform(self, X):
+    ...         return np.minimum(X, self.k)
+    >>> X = np.zeros((4, 3, 8, 8, 1), np.float32)
+    >>> check_param_validation("Clipper", Clipper(), X, None)
+    """
+    methods = [m for m in _FIT_METHODS if hasattr(estimator, m)] if methods is None else list(methods)
+    assert methods, f"{name} has none of {_FIT_METHODS}: pass the methods that validate its parameters."
+    params = _own_parameters(estimator)
+    constraints = getattr(estimator, "_parameter_constraints", {}) if params else {}
+    unexpected, missing = sorted(set(constraints) - set(params)), sorted(set(params) - set(constraints))
+    assert not unexpected and not missing, (
+        f"Mismatch between _parameter_constraints and the parameters of {name}: constraints of no parameter "
+        f"{unexpected}, parameters without constraints {missing}.")
+
+    def call(est, method):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return getattr(est, method)(X, y)
+
+    for param in params:
+        if constraints[param] == "no_validation":
+            continue
+        expected = _parameter_error_message(param, name)
+        for bad in _invalid_values(name, param, constraints[param]):
+            est = clone(estimator).set_params(**{param: bad})
+            for method in methods:
+                try:
+                    call(est, method)
+                except InvalidParameterError as exc:
+                    assert expected.search(str(exc)), (
+                        f"{name}.{method} with {param}={bad!r} raised a parameter error that does not say "
+                        f"\"The {param!r} parameter of {name} must be ... Got ... instead.\": {exc}")
+                else:
+                    raise AssertionError(
+                        f"{name}.{method} with {param}={bad!r} raised no InvalidParameterError: add or tighten "
+                        f"the constraint of {param!r} in _parameter_constraints (constraints must be disjoint, "
+                        f"[StrOptions({{'a'}}), str] accepts every string), or validate it in {method}.")
+        for good in _valid_values(constraints[param]):
+            est = clone(estimator).set_params(**{param: good})
+            try:
+                call(est, methods[0])
+            except InvalidParameterError as exc:
+                raise AssertionError(
+                    f"{name}.{methods[0]} with {param}={good!r}, a value its constraints accept, raised a "
+                    f"parameter error: {exc}") from exc
+            except Exception:  # noqa: BLE001 - a valid value need not suit the data; not a parameter error
+                pass
+
