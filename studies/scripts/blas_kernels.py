@@ -24,6 +24,7 @@ which this sets).
 """
 
 import argparse
+import json
 import os
 import subprocess
 import sys
@@ -33,11 +34,9 @@ from collections import defaultdict
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
 
+from harness.cli import run_sklearn_hardness
 from harness.machine import machine_reference
 from harness.provenance import report
-
-# private: the results file reproduce resumes from
-from sklearn_hardness.experiments._results import ResultsStore
 
 
 def run_with_kernels(coretype, reproduce_args, out):
@@ -52,8 +51,7 @@ def run_with_kernels(coretype, reproduce_args, out):
     else:
         env["OPENBLAS_CORETYPE"] = coretype
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "sklearn_hardness._cli", "reproduce", *reproduce_args,
-                    "--out", out, "--quiet"], env=env, check=True, stdout=subprocess.DEVNULL)
+    run_sklearn_hardness(["reproduce", *reproduce_args, "--out", out, "--quiet"], env=env, stdout=subprocess.DEVNULL)
     seconds = time.perf_counter() - t0
     return seconds, machine_reference(matmul=False, env=env)["blas"]
 
@@ -71,8 +69,10 @@ def honoured(coretype, blas):
 
 
 def active_runs(out):
-    """The run records of ``results.jsonl`` (read as ``reproduce`` resumes it) by (strategy, test object, seed)."""
-    records = ResultsStore(os.path.join(out, "results.jsonl")).records
+    """The run records of a finished run's ``results.jsonl`` (one JSON record a line) by (strategy, test object,
+    seed)."""
+    with open(os.path.join(out, "results.jsonl")) as f:
+        records = [json.loads(line) for line in f if line.strip()]
     return {(r["key"]["strategy"], r["key"]["test_object"], r["key"]["seed"]): r for r in records
             if r["key"].get("experiment") == "active_sampling"}
 
