@@ -47,6 +47,7 @@ import warnings
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from _estimate_modulus import GEL_ROI
+from _press_rows import split_per_press
 from _sim_variants import VARIANTS, variant_params
 from joblib import Parallel, delayed, effective_n_jobs
 from sim_to_real import named_pipeline
@@ -54,9 +55,6 @@ from training_objects import add_run_arguments, margin_cell, scores, simulated_r
 
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import report
-
-# private: the per-press prefix of a pipeline, whose rows are computed once per set and cached
-from sklearn_hardness.model_selection._per_press import split_per_press
 
 PIPELINES = ("peak_change", "contact_profile", "convlstm_intensity")
 

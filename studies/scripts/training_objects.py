@@ -34,6 +34,7 @@ parameter. Time per fit and peak memory are printed beside the figures.
 """
 
 import argparse
+import ast
 import os
 import sys
 import time
@@ -43,6 +44,7 @@ from pathlib import Path
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from _estimate_modulus import GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
+from _press_rows import prefix_key, split_per_press, transform_per_press
 from joblib import Parallel, delayed, effective_n_jobs
 from scipy import stats
 from sim_to_real import named_pipeline
@@ -51,18 +53,25 @@ from sklearn.metrics import balanced_accuracy_score
 
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import report
-
-# private: --set parsed as the command line parses it; the per-press prefixes, run once per set and cached
-from sklearn_hardness._cli._common import _parse_set, _UsageError
-from sklearn_hardness.model_selection._per_press import prefix_key, split_per_press, transform_per_press
 from sklearn_hardness.models import pipeline_info
+
+
+def parse_set(item):
+    """``NAME=VALUE`` -> (name, value) as the command line's ``--set`` reads it: a Python literal, else a string."""
+    key, sep, value = item.partition("=")
+    if not sep or not key:
+        raise argparse.ArgumentTypeError(f"--set expects KEY=VALUE, got {item!r}")
+    try:
+        return key, ast.literal_eval(value)
+    except (ValueError, SyntaxError):
+        return key, value  # a plain string
 
 
 def press_rows(prefix, videos, n_jobs, path=None):
     """The rows of every press through ``prefix`` (per-press steps), read from or written to ``path``."""
     if path is not None and path.exists():
         return np.load(path)
-    rows, _, _ = transform_per_press(prefix, videos, n_jobs=n_jobs)
+    rows = transform_per_press(prefix, videos, n_jobs=n_jobs)
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         np.save(path, rows)
@@ -161,7 +170,7 @@ def main(argv=None):
     ap.add_argument("--sizes", type=int, nargs="+", default=[1, 2, 4, 9],
                     help="training sets: the first k of --pool-seeds pooled, for each k")
     ap.add_argument("--net-seeds", type=int, nargs="+", default=[0])
-    ap.add_argument("--set", dest="settings", action="append", default=[],
+    ap.add_argument("--set", dest="settings", type=parse_set, action="append", default=[],
                     help="a parameter of every pipeline that has it, NAME=VALUE as the command line's --set "
                          "(e.g. clf__batch_size=32)")
     ap.add_argument("--param", type=parse_param, action="append", default=[],
@@ -172,10 +181,7 @@ def main(argv=None):
         args.pipelines = ["peak_change", *args.pipelines]  # the margins are over it
     if max(args.sizes) > len(args.pool_seeds) or set(args.pool_seeds) & set(args.test_seeds):
         ap.error("--sizes may not exceed the number of --pool-seeds, and no pool seed may be a test seed")
-    try:
-        settings = _parse_set(args.settings)  # the command line's --set: Python literals, else strings
-    except _UsageError as exc:
-        ap.error(str(exc))
+    settings = dict(args.settings)  # the command line's --set: Python literals, else strings
     params = dict(args.param)
     t0 = time.perf_counter()
     prefixes = {name: split_per_press(named_pipeline(name, 0))[0] for name in args.pipelines}
