@@ -11,8 +11,18 @@ evaluate`` does), and a failing fit raises (``error_score="raise"``) rather
 than leaving a fold out of a study's figure.
 """
 
+import numpy as np
+
 from sklearn_hardness.model_selection import evaluate_pipelines
-from sklearn_hardness.utils._force_position import force_position, presses_lacking_force_position
+
+
+def force_position(data):
+    """Each press's ``(T, 2)`` force and position per frame, or None where some press lacks either."""
+    force, position = getattr(data, "force", None), getattr(data, "position", None)
+    if force is None or position is None or any(f is None or z is None for f, z in zip(force, position)):
+        return None
+    return [np.column_stack([np.asarray(f, dtype=float).ravel(), np.asarray(z, dtype=float).ravel()])
+            for f, z in zip(force, position)]
 
 
 def evaluate_dataset(data, estimators=None, *, groups=None, error_score="raise", **kwargs):
@@ -37,8 +47,7 @@ def evaluate_dataset(data, estimators=None, *, groups=None, error_score="raise",
     -------
     result : EvaluationResult
     """
-    rows = None if presses_lacking_force_position(data) else force_position(data, ["loading_compliance"])
     return evaluate_pipelines(estimators, data.videos, data.target,
                               groups=data.object_id if groups is None else groups,
                               target_names=data.target_names, hardness=getattr(data, "hardness", None),
-                              force_position=rows, error_score=error_score, **kwargs)
+                              force_position=force_position(data), error_score=error_score, **kwargs)

@@ -76,9 +76,6 @@ from sklearn.preprocessing import StandardScaler
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import report
 from sklearn_hardness.features import ContactProfileFeatures
-
-# private: evaluate's rule for an object's class from its presses' probabilities
-from sklearn_hardness.model_selection._evaluate import _class_proba, _per_object
 from sklearn_hardness.models import make_named_pipeline
 
 ROWS = ("one number (peak change)", "contact profile, first 10 features", "contact profile, 12 features",
@@ -95,10 +92,11 @@ FEATURE_NAMES = tuple(ContactProfileFeatures().fit([np.zeros((3, 8, 8, 3), np.ui
 def video_features(videos, i):
     """The one number and the contact-profile features of video ``i`` (rendered in the worker)."""
     from sklearn_hardness.features import ContactProfileFeatures
-    from sklearn_hardness.models import peak_contact_change
+    from sklearn_hardness.models import make_named_pipeline
 
     video = videos[i]
-    return np.concatenate([peak_contact_change([video])[0],
+    peak_change = make_named_pipeline("peak_change")[0]  # its first step gives the one number of a press
+    return np.concatenate([peak_change.fit_transform([video])[0],
                            ContactProfileFeatures().fit_transform([video])[0]])
 
 
@@ -143,6 +141,16 @@ def scores(X, y, folds, model=None):
     return [balanced_accuracy_score(y[te], fitted.predict(X[te])) for te, fitted in _fitted(X, y, folds, model)]
 
 
+def object_predictions(fitted, X, y, groups, n_classes):
+    """Each object's label and class: the class of the mean of its presses' probabilities (evaluate's rule)."""
+    proba = np.zeros((len(X), n_classes))
+    proba[:, np.asarray(fitted.classes_, dtype=int)] = fitted.predict_proba(X)  # a class a fold lacks: 0
+    _, first, index = np.unique(groups, return_index=True, return_inverse=True)
+    total = np.zeros((len(first), proba.shape[1]))
+    np.add.at(total, index, proba)
+    return y[first], np.argmax(total, axis=1)  # an object's presses share its label
+
+
 def press_and_object_scores(X, y, groups, folds):
     """Balanced accuracy per fold of the logistic regression over the test presses, and over the test objects.
 
@@ -153,7 +161,7 @@ def press_and_object_scores(X, y, groups, folds):
     for te, fitted in _fitted(X, y, folds, None):
         pred = fitted.predict(X[te])
         press.append(balanced_accuracy_score(y[te], pred))
-        object_y, object_pred = _per_object(_class_proba(fitted, X[te], pred, int(y.max()) + 1), y[te], groups[te])
+        object_y, object_pred = object_predictions(fitted, X[te], y[te], groups[te], int(y.max()) + 1)
         objects.append(balanced_accuracy_score(object_y, object_pred))
     return press, objects
 

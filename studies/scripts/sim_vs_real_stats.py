@@ -211,6 +211,17 @@ def manifest_rank(data):
     return None
 
 
+def unreadable_videos(videos):
+    """``"video i: why"`` for every video of ``videos`` that cannot be read (each read in full)."""
+    found = []
+    for i in range(len(videos)):
+        try:
+            videos[i]
+        except (ValueError, TypeError, OSError) as exc:  # what read_video raises on a file it cannot read
+            found.append(f"video {i}: {exc}")
+    return found
+
+
 def parse_param(text):
     """``NAME=VALUE`` or ``NAME=LO,HI`` -> (name, float or tuple); ``true`` / ``false`` -> bool."""
     name, value = text.split("=", 1)
@@ -284,20 +295,17 @@ def main():
     if args.manifest:
         from sklearn_hardness.datasets import load_press_videos
 
-        # private: load_press_videos' own report of every unreadable video in one error
-        from sklearn_hardness.datasets._lazy import UnreadableVideosError, raise_unreadable
-
         reset_peak()
         t0 = time.perf_counter()
         data = load_press_videos(args.manifest)
         names = np.asarray(data.target_names)[np.asarray(data.target)]
         try:
             rows = collect(data.videos)
-        except (ValueError, TypeError, OSError) as exc:
-            try:  # every video that cannot be read, in one error
-                raise_unreadable(data.videos, exc)
-            except UnreadableVideosError as unreadable:
-                raise SystemExit(f"error: {unreadable}") from None
+        except (ValueError, TypeError, OSError):
+            unreadable = unreadable_videos(data.videos)
+            if unreadable:  # every video that cannot be read, in one error
+                raise SystemExit(f"error: {len(unreadable)} of {len(data.videos)} videos cannot be read:\n  "
+                                 + "\n  ".join(unreadable)) from None
             raise
         say(table(names, rows, f"Recordings of {args.manifest} ({len(rows)} presses), per label"))
         if args.features:
