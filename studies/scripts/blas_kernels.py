@@ -20,10 +20,13 @@ set both, where older builds fail with that choice); a named kernel set keeps
         --seeds $(seq 300 319) --n-jobs 2
 
 Everything after ``--`` goes to ``sklearn-hardness reproduce`` (less ``--out``,
-which this sets).
+which this sets). ``--smoke`` (what CI runs) compares ``native`` with ``Haswell``
+on a tiny reproduce command of its own (``SMOKE_REPRODUCE``: two strategies, one
+test object, one seed) on a tiny simulated set, unless arguments are given.
 """
 
 import argparse
+import csv
 import json
 import os
 import subprocess
@@ -37,6 +40,21 @@ import _harness  # noqa: F401 - puts the repository root on sys.path
 from harness.cli import run_sklearn_hardness
 from harness.machine import machine_reference
 from harness.provenance import report
+from harness.smoke import add_smoke_argument, parse_args, write_presses_manifest
+
+#: ``--smoke``'s reproduce arguments, after ``--dataset MANIFEST`` (a tiny simulated set) and before
+#: ``--test-objects`` (its first object).
+SMOKE_REPRODUCE = ["--model", "contact_profile", "--strategies", "thompson", "random", "--seeds", "0", "--quick",
+                   "--set", "n_initial=1", "n_per_query=1", "n_iterations=2", "n_test=1", "n_samples=2"]
+
+
+def smoke_reproduce_args(folder):
+    """A tiny reproduce command's arguments: :data:`SMOKE_REPRODUCE` on a tiny simulated manifest written in
+    ``folder``."""
+    manifest = write_presses_manifest(os.path.join(folder, "presses"))
+    with open(manifest, newline="") as f:
+        first = next(csv.DictReader(f))["object_id"]
+    return ["--dataset", str(manifest), *SMOKE_REPRODUCE, "--test-objects", first]
 
 
 def run_with_kernels(coretype, reproduce_args, out):
@@ -101,7 +119,7 @@ def compare(reference, other, n_iterations):
     return rows
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--coretypes", nargs="+", default=["Haswell", "SkylakeX", "Sandybridge"],
                     help="OPENBLAS_CORETYPE of each run, or native (neither it nor OPENBLAS_L2_SIZE set); "
@@ -110,9 +128,10 @@ def main():
     ap.add_argument("--out", default=None, help="also write the report here, after a provenance line")
     ap.add_argument("reproduce_args", nargs=argparse.REMAINDER,
                     help="after --: the arguments of sklearn-hardness reproduce")
-    args = ap.parse_args()
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, coretypes=["native", "Haswell"])
     reproduce_args = args.reproduce_args[1:] if args.reproduce_args[:1] == ["--"] else args.reproduce_args
-    if not reproduce_args:
+    if not reproduce_args and not args.smoke:
         ap.error("give the reproduce command's arguments after --")
     if any(a == "--out" or a.startswith("--out=") for a in reproduce_args):
         ap.error("leave --out out of the reproduce arguments: each kernel set gets its own folder")
@@ -123,6 +142,7 @@ def main():
 
     with tempfile.TemporaryDirectory() as tmp:
         root = args.keep or tmp
+        reproduce_args = reproduce_args or smoke_reproduce_args(tmp)
         folders, seconds, ran = {}, {}, {}
         for coretype in args.coretypes:
             folders[coretype] = os.path.join(root, coretype)

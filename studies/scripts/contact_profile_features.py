@@ -50,7 +50,7 @@ spread and maximum change, the values of its :class:`IntensityChannels`
 channels; its :class:`FrameScaler` fitted on each fold's training presses).
 
     python studies/scripts/contact_profile_features.py [--seeds 0 1 2 3 4] [--n-jobs 2]
-        [--variant NAME] [--param NAME=VALUE ...] [--heads] [--net-inputs] [--out FILE]
+        [--variant NAME] [--param NAME=VALUE ...] [--heads] [--net-inputs] [--out FILE] [--smoke]
 
 Prints a markdown table (one column per seed and the mean), the correlations,
 time and peak memory; ``--out`` writes the same text with a provenance line. The ideal rows use the renderer's
@@ -75,6 +75,7 @@ from sklearn.preprocessing import StandardScaler
 
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import report
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses
 from sklearn_hardness.features import ContactProfileFeatures
 from sklearn_hardness.models import make_named_pipeline
 
@@ -291,8 +292,9 @@ def main(argv=None):
     ap.add_argument("--net-inputs", action="store_true",
                     help="also score the paper's nets' inputs, alone and beside the twelve features")
     ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
-    args = ap.parse_args(argv)
-    overrides = variant_params(args.variant, args.param)
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, seeds=[0], n_jobs=1)
+    overrides = dict(tiny_presses("everyday", args.smoke), **variant_params(args.variant, args.param))
     reset_peak()
     t0 = time.perf_counter()
     results = [run_seed(s, overrides, args.n_jobs, args.heads, args.net_inputs) for s in args.seeds]

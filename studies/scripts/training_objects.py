@@ -23,7 +23,7 @@ within-family pairs ordered right by expected hardness rank, as
     python studies/scripts/training_objects.py [--pipelines peak_change contact_profile convlstm_intensity]
         [--test-seeds 0 1 2 3 4] [--pool-seeds 10 11 ... 18] [--sizes 1 2 4 9] [--net-seeds 0]
         [--set NAME=VALUE ...] [--param NAME=VALUE ...] [--data EXAMPLE_DATA [--roi]]
-        [--cache DIR] [--n-jobs 2] [--out FILE]
+        [--cache DIR] [--n-jobs 2] [--out FILE] [--smoke]
 
 The per-press steps of each pipeline (frame selection, features, the peak
 change) run once per simulated set, their rows kept in ``--cache`` when
@@ -53,6 +53,7 @@ from sklearn.metrics import balanced_accuracy_score
 
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import report
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses
 from sklearn_hardness.models import pipeline_info
 
 
@@ -118,13 +119,18 @@ def wedge_rows(data, roi, prefixes, n_jobs, cache):
             for name, prefix in prefixes.items()}
 
 
+def with_settings(est, settings):
+    """``est`` with those of ``settings`` (``{name: value}``) that are its parameters set; the others left out."""
+    return est.set_params(**{k: v for k, v in settings.items() if k in est.get_params()})
+
+
 def fit_and_score(name, net_seed, size, train, tests, real, hardness, settings, threads):
     """Fit ``name``'s rest on ``train`` rows; balanced accuracy per test set and Wedge pairs right per view."""
     import torch
 
     torch.set_num_threads(threads)
     _, rest = split_per_press(named_pipeline(name, net_seed))
-    rest.set_params(**{k: v for k, v in settings.items() if k in rest.get_params()})
+    with_settings(rest, settings)
     reset_peak()
     t0 = time.perf_counter()
     with warnings.catch_warnings():
@@ -151,6 +157,7 @@ def add_run_arguments(ap):
     ap.add_argument("--cache", default=None, help="folder to keep each simulated set's per-press rows in")
     ap.add_argument("--n-jobs", type=int, default=2)
     ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
+    add_smoke_argument(ap)
 
 
 def margin_cell(diffs):
@@ -176,13 +183,15 @@ def main(argv=None):
     ap.add_argument("--param", type=parse_param, action="append", default=[],
                     help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
     add_run_arguments(ap)
-    args = ap.parse_args(argv)
+    # --smoke: two tiny sets to train on, two to test, the nets one epoch
+    args = parse_args(ap, argv, test_seeds=[0, 1], pool_seeds=[10, 11], sizes=[1, 2], n_jobs=1,
+                      settings=[("clf__max_epochs", 1)])
     if "peak_change" not in args.pipelines:
         args.pipelines = ["peak_change", *args.pipelines]  # the margins are over it
     if max(args.sizes) > len(args.pool_seeds) or set(args.pool_seeds) & set(args.test_seeds):
         ap.error("--sizes may not exceed the number of --pool-seeds, and no pool seed may be a test seed")
     settings = dict(args.settings)  # the command line's --set: Python literals, else strings
-    params = dict(args.param)
+    params = dict(tiny_presses("everyday", args.smoke), **dict(args.param))
     t0 = time.perf_counter()
     prefixes = {name: split_per_press(named_pipeline(name, 0))[0] for name in args.pipelines}
     pool = args.pool_seeds[:max(args.sizes)]
