@@ -167,8 +167,11 @@ def press_and_object_scores(X, y, groups, folds):
     return press, objects
 
 
-def heads(seed):
-    """``--heads``: name -> unfitted head (standardised input; balanced class weights)."""
+def heads(seed, n_trees=300, n_rounds=200):
+    """``--heads``: name -> unfitted head (standardised input; balanced class weights).
+
+    ``n_trees``, ``n_rounds``: of the random forest and the gradient boosting (fewer in ``--smoke``).
+    """
     from sklearn.ensemble import HistGradientBoostingClassifier, RandomForestClassifier
 
     from sklearn_hardness.models import ContactProfileNNClassifier
@@ -180,10 +183,10 @@ def heads(seed):
             "logistic, C=0.1": logistic(0.1),
             "logistic, C=10": logistic(10.0),
             'MC-dropout MLP (head="nn")': ContactProfileNNClassifier(class_weight="balanced", random_state=seed),
-            "random forest (300 trees, leaves >= 5)": RandomForestClassifier(
-                300, min_samples_leaf=5, class_weight="balanced", random_state=seed),
-            "gradient boosting (depth 3, 200 rounds)": HistGradientBoostingClassifier(
-                max_depth=3, learning_rate=0.05, max_iter=200, class_weight="balanced", random_state=seed)}
+            f"random forest ({n_trees} trees, leaves >= 5)": RandomForestClassifier(
+                n_trees, min_samples_leaf=5, class_weight="balanced", random_state=seed),
+            f"gradient boosting (depth 3, {n_rounds} rounds)": HistGradientBoostingClassifier(
+                max_depth=3, learning_rate=0.05, max_iter=n_rounds, class_weight="balanced", random_state=seed)}
 
 
 NET_INPUT_ROWS = ("flow magnitude quantiles (the OFNN pipeline's input)",
@@ -229,7 +232,7 @@ def net_input_scores(cp, flow, frames, y, folds):
                                       for (tr, te), (a, b) in zip(folds, intensity)])}
 
 
-def run_seed(seed, overrides, n_jobs, with_heads=False, with_net_inputs=False):
+def run_seed(seed, overrides, n_jobs, with_heads=False, with_net_inputs=False, head_sizes=()):
     from sklearn_hardness.datasets import make_presses
 
     data = make_presses("everyday", return_mechanics=True, random_state=seed, **overrides)
@@ -256,7 +259,7 @@ def run_seed(seed, overrides, n_jobs, with_heads=False, with_net_inputs=False):
     head_scores = {}
     if with_heads:
         head_scores = {name: float(np.mean(scores(V[:, 1:], y, folds, model)))
-                       for name, model in heads(seed).items()}
+                       for name, model in heads(seed, *head_sizes).items()}
     net_scores = {}
     if with_net_inputs:
         with warnings.catch_warnings():
@@ -297,7 +300,8 @@ def main(argv=None):
     overrides = dict(tiny_presses("everyday", args.smoke), **variant_params(args.variant, args.param))
     reset_peak()
     t0 = time.perf_counter()
-    results = [run_seed(s, overrides, args.n_jobs, args.heads, args.net_inputs) for s in args.seeds]
+    head_sizes = (10, 10) if args.smoke else ()  # --smoke: 10 trees, 10 boosting rounds
+    results = [run_seed(s, overrides, args.n_jobs, args.heads, args.net_inputs, head_sizes) for s in args.seeds]
     seconds = time.perf_counter() - t0
     lines = [f"everyday preset{f' (variant {args.variant})' if args.variant else ''}"
              f"{f', overrides {overrides}' if overrides else ''}: balanced accuracy, object-disjoint 5 folds, "
