@@ -27,7 +27,7 @@ that sees no GPU (``CUDA_VISIBLE_DEVICES=""``).
 
     python benchmarks/bench_device.py [--device cuda] [--n-per-class 16] [--epochs 30] [--out FILE]
 
-``--smoke`` runs on the CPU beside the CPU, on a few small presses, one epoch (what CI runs: it has no GPU).
+``--smoke`` runs both fits on the CPU, on a few small presses, one epoch (what CI runs: it has no GPU).
 """
 
 import argparse
