@@ -22,6 +22,9 @@ Paired seeds
     Pairs cycle through the test objects (30 pairs = 5 objects x 6 seeds).
     Results go to a resumable JSON Lines file (``--results``).
 
+``--smoke`` runs either on a tiny simulated copy of ``silicone5`` with tiny
+settings, caching and writing nothing (what CI runs).
+
 Measured (shared 2-core VM, load 5-8, so wall times are inflated; CPU times are the guide)
     One ConvLSTM run, paper settings, 1 torch thread: 71 s CPU (159 s wall
     under load), peak RSS 564 MiB; preparing the 455 presses: 140 s wall
@@ -58,13 +61,23 @@ import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 
 from harness.memory import peak_rss_mb
+from harness.smoke import TINY_ACTIVE, add_smoke_argument, parse_args, tiny_presses
 
 
 def _overrides(args):
     out = {"frame_size": (18, 24), "early_stopping": None} if args.paper else {}
     if args.frame_size is not None:
         out["frame_size"] = tuple(args.frame_size)
-    return out
+    return dict(TINY_ACTIVE, **out) if args.smoke else out
+
+
+def _dataset(args):
+    """``"silicone5"``, or with ``--smoke`` a tiny simulated copy of it."""
+    if not args.smoke:
+        return "silicone5"
+    from sklearn_hardness.datasets import make_presses
+
+    return make_presses("silicone5", random_state=0, **tiny_presses("silicone5"))
 
 
 def prepare(dataset, memory, model=None, quick=False, **overrides):
@@ -84,12 +97,13 @@ def one_run(args):
 
     torch.set_num_threads(args.threads)
     overrides = _overrides(args)
+    dataset = _dataset(args)
     t = time.perf_counter()
-    prepare("silicone5", args.cache, model=args.model, quick=args.quick, **overrides)
+    prepare(dataset, args.cache, model=args.model, quick=args.quick, **overrides)
     prep = time.perf_counter() - t
     rss_prep = peak_rss_mb()
     t, c = time.perf_counter(), time.process_time()
-    res = run_active_sampling("silicone5", model=args.model, strategies=(args.strategy,), test_classes=[0],
+    res = run_active_sampling(dataset, model=args.model, strategies=(args.strategy,), test_classes=[0],
                               seeds=[args.seed], quick=args.quick, n_jobs=1, memory=args.cache, verbose=0,
                               **overrides)
     wall, cpu = time.perf_counter() - t, time.process_time() - c
@@ -120,9 +134,10 @@ def paired(args):
     n_seeds = math.ceil(args.paired_seeds / 5)
     overrides = _overrides(args)
     t = time.perf_counter()
-    res = run_active_sampling("silicone5", model=args.model, strategies=strategies, seeds=range(n_seeds),
+    tiny = {"test_classes": [0]} if args.smoke else {}  # one of the five test objects
+    res = run_active_sampling(_dataset(args), model=args.model, strategies=strategies, seeds=range(n_seeds),
                               quick=args.quick, n_jobs=args.n_jobs, results_path=args.results,
-                              memory=args.cache, verbose=1, **overrides)
+                              memory=args.cache, verbose=1, **tiny, **overrides)
     wall = time.perf_counter() - t
     # pairs (test object, seed), first args.paired_seeds of them in seed-major order
     pairs = sorted({(r["key"]["seed"], r["key"]["test_class"]) for r in res.records})[: args.paired_seeds]
@@ -166,7 +181,7 @@ def paired(args):
         print(line)
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--model", default="convlstm", choices=["convlstm", "ofnn"])
     ap.add_argument("--quick", action="store_true", help="the reproduce --quick settings")
@@ -180,7 +195,8 @@ def main():
     ap.add_argument("--n-jobs", type=int, default=2)
     ap.add_argument("--results", default="bench_active_sampling.jsonl")
     ap.add_argument("--cache", default=os.path.join(".cache", "bench_active_sampling"))
-    args = ap.parse_args()
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, quick=True, threads=1, n_jobs=1, results=None, cache=False)
     if args.paired_seeds:
         paired(args)
     else:

@@ -30,6 +30,7 @@ import numpy as np
 import torch
 
 from harness.memory import peak_rss_mb, reset_peak
+from harness.smoke import add_smoke_argument, parse_args
 from sklearn_hardness.models import ConvLSTMClassifier
 
 COMPLIANCE = np.array([1.13, 1.02, 0.79, 0.68, 0.44])  # mm/N, the paper's objects
@@ -73,7 +74,7 @@ def resize(X, size, color):
     return np.ascontiguousarray(out, dtype=np.float32)
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n-train", type=int, default=40)
     parser.add_argument("--n-test", type=int, default=100)
@@ -85,13 +86,15 @@ def main():
                         help="measure accuracy only up to this frame size (H*W)")
     parser.add_argument("--no-accuracy", action="store_true")
     parser.add_argument("--threads", type=int, default=1)
-    args = parser.parse_args()
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, n_train=10, n_test=5, sizes="12x16", colors="gray", epochs=3)
     torch.set_num_threads(args.threads)
     print(f"torch {torch.__version__}, {args.threads} thread(s), "
           f"LD_PRELOAD={os.environ.get('LD_PRELOAD', '') or '-'}")
-    X_full, y = synthetic_selected_frames(args.n_train + args.n_test, seed=0)
+    size = (48, 64) if args.smoke else (240, 320)  # --smoke: frames made at 48x64
+    X_full, y = synthetic_selected_frames(args.n_train + args.n_test, size=size, seed=0)
     print(f"{args.n_train} training presses, {args.n_test} held out, 4 frames, 5 classes "
-          f"(chance 20%), batch_size=8, Adam lr={args.lr}; RSS with the 240x320 data in memory: "
+          f"(chance 20%), batch_size=8, Adam lr={args.lr}; RSS with the {size[0]}x{size[1]} data in memory: "
           f"{peak_rss_mb():.0f} MB")
     print(f"{'input':<18}{'epoch (s)':>10}{'ms/press':>10}{'peak RSS (MB)':>15}{'+MB':>7}"
           f"{'acc (held out)':>16}{'train loss':>12}")

@@ -19,12 +19,11 @@ with its peak resident memory and balanced accuracy:
 - ``evaluate_pipelines([name], ..., cv=GroupKFold(5), baseline=None)``.
 
     python benchmarks/bench_cross_val.py [--pipeline contact_geometry] [--n-per-class 6] [--image-size 240 320]
+        [--smoke]
 """
 
 import argparse
 import os
-import shutil
-import subprocess
 import sys
 import tempfile
 import time
@@ -34,22 +33,19 @@ import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from sklearn.model_selection import GroupKFold, cross_val_score
 
+from harness.cli import run_sklearn_hardness
 from harness.memory import peak_rss_mb, reset_peak
+from harness.smoke import add_smoke_argument, parse_args
 from sklearn_hardness.datasets import load_press_videos
 from sklearn_hardness.model_selection import evaluate_pipelines
 from sklearn_hardness.models import make_named_pipeline
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
-
-def simulate(folder, n_per_class, image_size):
-    """Write simulated ``everyday`` presses and their manifest, as ``sklearn-hardness simulate`` does."""
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([ROOT, os.environ.get("PYTHONPATH", "")])}
-    beside = os.path.join(os.path.dirname(sys.executable), "sklearn-hardness")  # the console script
-    command = beside if os.path.exists(beside) else shutil.which("sklearn-hardness")
-    subprocess.run([command, "simulate", "--preset", "everyday", "--out", folder,
-                    "--n-per-class", str(n_per_class), "--image-size", *map(str, image_size), "--format", "mp4",
-                    "--n-jobs", "2", "--quiet"], check=True, env=env)
+def simulate(folder, n_per_class, image_size, n_jobs=2):
+    """Write simulated ``everyday`` presses and their manifest with ``sklearn-hardness simulate``."""
+    run_sklearn_hardness(["simulate", "--preset", "everyday", "--out", folder, "--n-per-class", str(n_per_class),
+                          "--image-size", *map(str, image_size), "--format", "mp4", "--n-jobs", str(n_jobs),
+                          "--quiet"])
     return load_press_videos(os.path.join(folder, "manifest.csv"))
 
 
@@ -66,11 +62,12 @@ def main(argv=None):
     ap.add_argument("--pipeline", default="contact_geometry", help="a name of make_named_pipeline")
     ap.add_argument("--n-per-class", type=int, default=6, help="presses per object (42 objects)")
     ap.add_argument("--image-size", type=int, nargs=2, default=(240, 320), metavar=("H", "W"))
-    args = ap.parse_args(argv)
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, n_per_class=1, image_size=(48, 64))
 
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
-        data = simulate(os.path.join(tmp, "presses"), args.n_per_class, args.image_size)
+        data = simulate(os.path.join(tmp, "presses"), args.n_per_class, args.image_size, 1 if args.smoke else 2)
         write_s = time.perf_counter() - t0
         X, y, groups, cv = data.videos, data.target, data.object_id, GroupKFold(5)
 

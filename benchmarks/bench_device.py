@@ -26,6 +26,8 @@ device net's ``predict_proba`` and that of its pickle loaded in a process
 that sees no GPU (``CUDA_VISIBLE_DEVICES=""``).
 
     python benchmarks/bench_device.py [--device cuda] [--n-per-class 16] [--epochs 30] [--out FILE]
+
+``--smoke`` runs both fits on the CPU, on a few small presses, one epoch (what CI runs: it has no GPU).
 """
 
 import argparse
@@ -38,8 +40,11 @@ import tempfile
 import time
 import warnings
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 import torch
+
+from harness.smoke import add_smoke_argument, parse_args
 
 LOAD_ON_CPU = """
 import pickle, sys, warnings
@@ -54,7 +59,6 @@ np.savez(sys.argv[3], **{name: net.predict_proba(X[name]) for name, net in nets.
 """
 
 
-
 def tiny_dinov2():
     """A randomly initialised one-layer DINOv2 backbone (no download)."""
     import transformers
@@ -64,13 +68,14 @@ def tiny_dinov2():
                                     intermediate_size=64, image_size=28, patch_size=14)
     return transformers.Dinov2Model(cfg).eval()
 
-def inputs(n_per_class, seed):
+
+def inputs(n_per_class, seed, image_size=(120, 160)):
     """Per net: its input rows of every press (per-press steps run once, on the CPU), and the labels."""
     from sklearn_hardness.datasets import make_presses
     from sklearn_hardness.features import ContactProfileFeatures
     from sklearn_hardness.models import make_convlstm_pipeline, make_dinov2nn_pipeline, make_ofnn_pipeline
 
-    data = make_presses("silicone5", n_per_class=n_per_class, image_size=(120, 160), random_state=seed)
+    data = make_presses("silicone5", n_per_class=n_per_class, image_size=image_size, random_state=seed)
     videos = [data.videos[i] for i in range(len(data.target))]
     backbone = tiny_dinov2()  # 28x28 input, random weights
     with warnings.catch_warnings():
@@ -128,11 +133,12 @@ def main(argv=None):
     ap.add_argument("--epochs", type=int, default=30)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default=None)
-    args = ap.parse_args(argv)
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, device="cpu", n_per_class=2, epochs=1)
     if torch.device(args.device).type == "cuda" and not torch.cuda.is_available():
         ap.error(f"--device {args.device}, but torch sees no GPU")
 
-    rows, y = inputs(args.n_per_class, args.seed)
+    rows, y = inputs(args.n_per_class, args.seed, (48, 64) if args.smoke else (120, 160))
     rng = np.random.default_rng(args.seed)
     test = np.zeros(len(y), bool)
     for c in np.unique(y):

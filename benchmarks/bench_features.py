@@ -16,7 +16,7 @@ Peak memory is the largest resident set size (sampled every 5 ms from
 /proc/self/statm) during the call, minus the resident size before it: the
 extra memory the transform needs on top of its input.
 
-    python benchmarks/bench_features.py [--n-videos 455] [--n-dino 16] [--threads 2]
+    python benchmarks/bench_features.py [--n-videos 455] [--n-dino 16] [--threads 2] [--smoke]
 """
 
 import argparse
@@ -25,10 +25,12 @@ import threading
 import time
 import warnings
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import cv2
 import numpy as np
 import torch
 
+from harness.smoke import add_smoke_argument, parse_args
 from sklearn_hardness.features import DINOv2Features, OpticalFlowFeatures
 
 PAGE_MB = os.sysconf("SC_PAGE_SIZE") / 2**20
@@ -145,7 +147,7 @@ def bench_dinov2(X, batch_size):
               f"{m.extra:>16.0f}{rel:>14.3f}")
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n-videos", type=int, default=455, help="presses for OpticalFlowFeatures")
     parser.add_argument("--n-dino", type=int, default=16, help="presses for DINOv2Features")
@@ -153,13 +155,14 @@ def main():
     parser.add_argument("--threads", type=int, default=2, help="torch and OpenCV threads")
     parser.add_argument("--batch-size", type=int, default=32)
     parser.add_argument("--skip-dinov2", action="store_true")
-    args = parser.parse_args()
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, n_videos=4, n_dino=1, threads=1)
     torch.set_num_threads(args.threads)
     cv2.setNumThreads(args.threads)
 
     rng = np.random.default_rng(0)
     t0 = time.perf_counter()
-    X, shifts = make_frames(args.n_videos, args.frames, (240, 320), rng)
+    X, shifts = make_frames(args.n_videos, args.frames, (48, 64) if args.smoke else (240, 320), rng)
     print(f"made {args.n_videos} synthetic presses in {time.perf_counter() - t0:.1f} s; "
           f"RSS {rss_mb():.0f} MB; {os.cpu_count()} CPU(s), threads={args.threads}")
     bench_optical_flow(X, shifts, n_jobs_list=sorted({1, args.threads}))

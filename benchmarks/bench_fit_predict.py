@@ -18,6 +18,7 @@ so speed is never read without the error it buys.
 
     python benchmarks/bench_fit_predict.py [--pipeline contact_geometry] [--n-presses 270]   # ~8 GB in memory
     python benchmarks/bench_fit_predict.py --data DATA      # the real development presses
+    python benchmarks/bench_fit_predict.py --smoke [--data DATA]   # a few tiny presses (what CI runs)
 """
 
 import argparse
@@ -32,6 +33,7 @@ from sklearn.metrics import balanced_accuracy_score
 from sklearn.model_selection import GroupShuffleSplit
 
 from harness.memory import peak_rss_mb
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses
 from sklearn_hardness.datasets import load_physiclear, make_presses
 from sklearn_hardness.models import make_named_pipeline
 
@@ -46,8 +48,10 @@ def load(args):
         n = min(args.n_presses, len(data.target))
         videos = [data.videos[i] for i in range(n)] if args.in_memory else data.videos[np.arange(n)]
         return videos, data.target[:n], data.object_id[:n]
-    n_objects = 42  # the everyday preset's objects
-    data = make_presses("everyday", n_per_class=max(1, -(-args.n_presses // n_objects)), random_state=0)
+    tiny = tiny_presses("everyday", args.smoke)  # --smoke: a few small presses
+    n_objects = tiny.get("n_objects", 42)  # the everyday preset's objects
+    data = make_presses("everyday", **dict(tiny, n_per_class=max(1, -(-args.n_presses // n_objects))),
+                        random_state=0)
     n = min(args.n_presses, len(data.target))
     videos = [data.videos[i] for i in range(n)]
     return videos, data.target[:n], data.object_id[:n]
@@ -65,7 +69,8 @@ def main(argv=None):
     ap.add_argument("--n-predict", type=int, default=10, help="single-press predictions to time")
     ap.add_argument("--data", help="a local copy of the public PhysiCLeAR set (development objects alone)")
     ap.add_argument("--in-memory", action="store_true", help="with --data: decode the videos before the clock")
-    args = ap.parse_args(argv)
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, n_presses=20, n_predict=1)
 
     t0 = time.perf_counter()
     videos, y, groups = load(args)

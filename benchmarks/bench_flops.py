@@ -12,6 +12,7 @@ the head per pass, dropout on the pooled features).
 
     LD_PRELOAD=/usr/lib/x86_64-linux-gnu/libtcmalloc_minimal.so.4 python benchmarks/bench_flops.py
     python benchmarks/bench_flops.py --threads 2 --sizes 18x24,60x80,120x160
+    python benchmarks/bench_flops.py --smoke      # one small size, one repetition (what CI runs)
 """
 
 import argparse
@@ -24,6 +25,7 @@ import torch
 from torch.utils.flop_counter import FlopCounterMode
 
 from harness.machine import matmul_gflops
+from harness.smoke import add_smoke_argument, parse_args
 from sklearn_hardness.models import ConvLSTMClassifier
 
 #: The net ConvLSTMClassifier trains (its public ``module`` parameter's default), reached
@@ -48,7 +50,7 @@ def count_flops(fn):
     return counter.get_total_flops()
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--sizes", default="12x16,18x24,60x80,120x160")
@@ -56,7 +58,8 @@ def main():
     ap.add_argument("--frames", type=int, default=4)
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--matmul", type=int, default=2048)
-    args = ap.parse_args()
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, sizes="12x16", repeat=1, matmul=128)
     torch.set_num_threads(args.threads)
     torch.manual_seed(0)
     peak = matmul_gflops(args.matmul, args.repeat, threads=None) * 1e9  # on --threads
@@ -98,6 +101,7 @@ def main():
         t = median_time(mc, args.repeat)
         print(f"{size:<10}{'50 MC passes, 5 presses':<24}{5:>6}{flops / 1e9:>9.3f}{1e3 * t:>9.1f}"
               f"{flops / t / 1e9:>9.1f}{flops / t / peak:>9.1%}")
+
 
 if __name__ == "__main__":
     main()

@@ -27,6 +27,8 @@ end (videos in) and for the net alone (its prepared input), with the ratios.
 Target (issue 9): 50 passes <= 5x one predict_proba.
 
     python benchmarks/bench_mc_dropout.py --pipelines [--n-test 10]
+
+``--smoke`` (with or without ``--pipelines``): tiny inputs, few passes, one repetition (what CI runs).
 """
 
 import argparse
@@ -38,6 +40,7 @@ import numpy as np
 import torch
 
 from harness.memory import peak_rss_mb, reset_peak
+from harness.smoke import add_smoke_argument, parse_args
 from sklearn_hardness.models import ConvLSTMClassifier, DINOv2NNClassifier
 
 
@@ -144,12 +147,12 @@ def tiny_dinov2():
     return transformers.Dinov2Model(cfg).eval()
 
 
-def bench_pipelines(n_test, repeat, device="cpu"):
+def bench_pipelines(n_test, repeat, device="cpu", image_size=(240, 320)):
     """One predict_proba against 50 MC passes for each ready-made pipeline at its defaults."""
     from sklearn_hardness.datasets import make_presses
     from sklearn_hardness.models import make_convlstm_pipeline, make_dinov2nn_pipeline, make_ofnn_pipeline
 
-    data = make_presses("silicone5", n_per_class=5 + -(-n_test // 5), random_state=0)
+    data = make_presses("silicone5", n_per_class=5 + -(-n_test // 5), image_size=image_size, random_state=0)
     y = np.asarray(data.target)
     train = np.concatenate([np.flatnonzero(y == c)[:5] for c in np.unique(y)])
     test = np.setdiff1d(np.arange(len(y)), train)[:n_test]
@@ -174,7 +177,7 @@ def bench_pipelines(n_test, repeat, device="cpu"):
             print(f"{name:<40}{part:<10}{1e3 * t_pp:>17.1f}{1e3 * t_mc:>14.1f}{t_mc / t_pp:>7.2f}")
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n-samples", type=int, default=50)
     parser.add_argument("--n-test", type=int, default=10, help="test presses (the paper's l)")
@@ -188,10 +191,11 @@ def main():
     parser.add_argument("--skip-convlstm", action="store_true")
     parser.add_argument("--pipelines", action="store_true", help="time the ready-made pipelines instead")
     parser.add_argument("--device", default="cpu", help="torch device of the nets (cpu, cuda)")
-    args = parser.parse_args()
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, n_samples=3, n_test=2, size="12x16", mlp_dim=8, mlp_n="5", repeat=1)
     torch.set_num_threads(args.threads)
     if args.pipelines:
-        bench_pipelines(args.n_test, args.repeat, args.device)
+        bench_pipelines(args.n_test, args.repeat, args.device, (48, 64) if args.smoke else (240, 320))
         return
     H, W = (int(s) for s in args.size.split("x"))
     print(f"torch {torch.__version__}, device {args.device}, {args.threads} thread(s), "

@@ -9,6 +9,7 @@ frames ContactFrameSelector picks (at 48x64 for speed; ``--no-check`` skips it).
 
     python benchmarks/bench_simulator.py [--image-size 240 320] [--n-jobs 1] [--no-check]
     python benchmarks/bench_simulator.py --preset everyday [--codec mp4v|none]
+    python benchmarks/bench_simulator.py --smoke [--preset everyday]   # a few small presses (what CI runs)
 
 Targets (issue 3): under 30 s and under 3 GB peak RSS on 2 cores.
 
@@ -24,17 +25,18 @@ import time
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
-from joblib import Parallel, delayed
 from threadpoolctl import threadpool_limits
 
 from harness.memory import peak_rss_mb
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses
+from joblib import Parallel, delayed
 
 
 def _frames(videos):
     return sum(len(v) for v in videos)
 
 
-def _check(seed=0):
+def _check(seed=0, smoke=False):
     from sklearn.linear_model import LogisticRegression
     from sklearn.model_selection import StratifiedKFold, cross_val_score
     from sklearn.pipeline import make_pipeline
@@ -43,7 +45,7 @@ def _check(seed=0):
     from sklearn_hardness.datasets import make_presses
     from sklearn_hardness.preprocessing import ContactFrameSelector
 
-    data = make_presses("silicone5", image_size=(48, 64), random_state=seed)
+    data = make_presses("silicone5", **dict(tiny_presses("silicone5", smoke), image_size=(48, 64)), random_state=seed)
     sel = ContactFrameSelector(frame_size=(12, 16))
     X = sel.fit_transform(data.videos).reshape(len(data.videos), -1)
     peak = np.array([[c.max()] for c in sel.selection_.curves])
@@ -57,7 +59,7 @@ def _check(seed=0):
     return out, bool(sel.selection_.contact_found.all())
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--image-size", type=int, nargs=2, default=(240, 320))
     parser.add_argument("--n-jobs", type=int, default=1, help="render in parallel (joblib) when > 1")
@@ -65,7 +67,8 @@ def main():
     parser.add_argument("--no-check", action="store_true", help="skip the classification check")
     parser.add_argument("--preset", default="silicone5", choices=["silicone5", "everyday"])
     parser.add_argument("--codec", default="auto", help="everyday only: mp4v (auto), mjpg or none")
-    args = parser.parse_args()
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, image_size=(48, 64), codec="none")
     if args.preset == "everyday":
         return _everyday(args)
 
@@ -73,7 +76,8 @@ def main():
 
     rss_import = peak_rss_mb()
     t0 = time.perf_counter()
-    data = make_presses("silicone5", image_size=tuple(args.image_size), random_state=args.seed)
+    data = make_presses("silicone5", **dict(tiny_presses("silicone5", args.smoke), image_size=tuple(args.image_size)),
+                        random_state=args.seed)
     t_make = time.perf_counter() - t0
     rss_make = peak_rss_mb()
     t0 = time.perf_counter()
@@ -96,9 +100,9 @@ def main():
           f"   target: < 30 s, < 3000 MB")
     if not args.no_check:
         t0 = time.perf_counter()
-        acc, found = _check(args.seed)
+        acc, found = _check(args.seed, args.smoke)
         dt = time.perf_counter() - t0
-        print(f"\nclassification check (silicone5 at 48x64, 455 presses, 5-fold logistic regression; "
+        print(f"\nclassification check (silicone5 at 48x64, {len(data.videos)} presses, 5-fold logistic regression; "
               f"chance 0.20; {dt:.1f} s); contact found on every press: {found}")
         for name, a in acc.items():
             print(f"  {name:<24} accuracy {a:.3f}")
@@ -112,7 +116,8 @@ def _everyday(args):
 
     codec = None if args.codec == "none" else args.codec
     t0 = time.perf_counter()
-    data = make_presses("everyday", image_size=tuple(args.image_size), codec=codec, random_state=args.seed)
+    data = make_presses("everyday", **dict(tiny_presses("everyday", args.smoke), image_size=tuple(args.image_size),
+                                           codec=codec), random_state=args.seed)
     t_make = time.perf_counter() - t0
     # contact_curve and ContactProfileFeatures look at every 4th pixel of a 240x320 frame (80 px on the
     # long side): keeping just those pixels gives the same numbers in 1/16 of the memory.

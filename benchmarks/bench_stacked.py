@@ -23,6 +23,7 @@ uses the skorch classifiers.
     python benchmarks/bench_stacked.py --k 1 5 20 --device cpu --threads 1
     python benchmarks/bench_stacked.py --device cuda --k 1 5 20 50 --size 18x24
     python benchmarks/bench_stacked.py --k 1 5 --ensemble
+    python benchmarks/bench_stacked.py --smoke      # K 1 and 2, one step, a tiny ensemble (what CI runs)
 """
 
 import argparse
@@ -36,6 +37,7 @@ import torch
 
 from harness.machine import matmul_gflops
 from harness.memory import peak_rss_mb, reset_peak
+from harness.smoke import add_smoke_argument, parse_args
 from sklearn_hardness.models._stacked import StackedConvLSTMNet
 
 
@@ -185,7 +187,7 @@ def bench_ensemble(args):
         print(f"{name:<30}{t:>8.2f}{t / t1:>8.2f}{m:>9.0f}{loss:>17.3f}")
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--k", type=int, nargs="+", default=[1, 5, 20, 50], help="numbers of members")
     ap.add_argument("--device", choices=["cpu", "cuda"], default="cpu")
@@ -203,7 +205,8 @@ def main():
     ap.add_argument("--ensemble", action="store_true", help="also time EnsembleClassifier (needs skorch)")
     ap.add_argument("--presses", type=int, default=40, help="training presses of the ensemble timing")
     ap.add_argument("--epochs", type=int, default=30, help="epochs of the ensemble timing")
-    args = ap.parse_args()
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, k=[1, 2], steps=1, repeat=1, matmul=128, ensemble=True, presses=10, epochs=1)
     args.hw = tuple(int(s) for s in args.size.lower().split("x"))
     torch.set_num_threads(args.threads)
     device = torch.device(args.device)

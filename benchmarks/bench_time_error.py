@@ -35,6 +35,9 @@ its contact before resizing (``crop_contact=0.5``)::
     python benchmarks/bench_time_error.py --configs paper "frames 12x16" "early stopping 5" \
         "crop 0.5" "crop 0.5, frames 12x16" "frames 12x16, early stopping 5" \
         --out time_error_skip
+
+``--smoke`` runs the ``paper`` configuration alone on a tiny simulated copy of
+``silicone5`` with tiny settings and no cache (what CI runs).
 """
 
 import argparse
@@ -49,6 +52,7 @@ import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 
 from harness.memory import peak_rss_mb
+from harness.smoke import TINY_ACTIVE, add_smoke_argument, parse_args, tiny_presses
 
 #: The paper's settings, from which every configuration changes one knob: 18x24 frames (the
 #: library's default before 12x16) and every epoch trained (the default is early_stopping=5,
@@ -83,20 +87,25 @@ def prepare(dataset, memory, model=None, quick=False, **overrides):
                         n_jobs=1, memory=memory, verbose=0, **kwargs, **short)
 
 
-def one_config(name, seeds, n_jobs, cache):
+def one_config(name, seeds, n_jobs, cache, smoke=False):
     """Run one configuration in this process; print a JSON line with its figures."""
     import torch
     from joblib.externals.loky import get_reusable_executor
 
+    from sklearn_hardness.datasets import make_presses
     from sklearn_hardness.experiments import run_active_sampling
 
     overrides, threads, _ = CONFIGS[name]
     overrides = dict(PAPER, **overrides, n_holdout=5)
+    dataset = "silicone5"
+    if smoke:  # a tiny simulated silicone5 with room for one held-out press per object
+        dataset = make_presses("silicone5", random_state=0, **dict(tiny_presses("silicone5"), n_per_class=6))
+        overrides.update(TINY_ACTIVE, n_holdout=1)
     torch.set_num_threads(threads)
     n_jobs = max(1, n_jobs // threads)
-    prepare("silicone5", cache, **overrides)  # cached, not timed
+    prepare(dataset, cache, **overrides)  # cached, not timed
     t = time.perf_counter()
-    res = run_active_sampling("silicone5", strategies=("variance",), seeds=range(seeds), n_jobs=n_jobs,
+    res = run_active_sampling(dataset, strategies=("variance",), seeds=range(seeds), n_jobs=n_jobs,
                               memory=cache, verbose=0, **overrides)
     wall = time.perf_counter() - t
     if n_jobs > 1:
@@ -168,7 +177,7 @@ def plot(rows, front, path):
     fig.savefig(path, dpi=110)
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--configs", nargs="+", default=list(CONFIGS), choices=list(CONFIGS))
     ap.add_argument("--seeds", type=int, default=1, help="seeds per test object (5 runs per seed)")
@@ -176,9 +185,10 @@ def main():
     ap.add_argument("--cache", default=os.path.join(".cache", "bench_time_error"))
     ap.add_argument("--out", default=None, help="path prefix of the .txt, .csv and .png written")
     ap.add_argument("--one", default=None, help=argparse.SUPPRESS)  # internal: run one configuration
-    args = ap.parse_args()
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, configs=["paper"], n_jobs=1, cache=False)
     if args.one:
-        one_config(args.one, args.seeds, args.n_jobs, args.cache)
+        one_config(args.one, args.seeds, args.n_jobs, args.cache, args.smoke)
         return
     rows = []
     for name in args.configs:
@@ -188,9 +198,10 @@ def main():
                 env.pop(k, None)
             else:
                 env[k] = v
+        where = ["--smoke"] if args.smoke else ["--cache", args.cache]  # --smoke: no cache
         out = subprocess.run(
             [sys.executable, __file__, "--one", name, "--seeds", str(args.seeds), "--n-jobs", str(args.n_jobs),
-             "--cache", args.cache],
+             *where],
             env=env, capture_output=True, text=True,
         )
         if out.returncode:

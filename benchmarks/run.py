@@ -10,6 +10,7 @@ The benchmarks' own output goes to ``--log`` (default ``benchmarks.log``).
     python benchmarks/run.py --quick              # every benchmark, small cases (a few minutes on 2 cores)
     python benchmarks/run.py                      # the benchmarks' own defaults (an hour or more)
     python benchmarks/run.py --quick convlstm mc_dropout
+    python benchmarks/run.py --smoke                      # every benchmark's --smoke run (what CI runs)
     python benchmarks/run.py --list
 
 No benchmark imports another, nor a private module of the package; their shared helpers
@@ -25,6 +26,7 @@ import time
 import _harness  # noqa: F401 - puts the repository root on sys.path
 
 from harness.memory import TreePeak
+from harness.smoke import SMOKE_HELP
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -106,6 +108,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("names", nargs="*", help="benchmarks to run (default: all)")
     ap.add_argument("--quick", action="store_true", help="small cases, a few minutes on 2 cores")
+    ap.add_argument("--smoke", action="store_true",
+                    help="each case with its benchmark's --smoke (" + SMOKE_HELP.split(":")[0] + ")")
     ap.add_argument("--log", default="benchmarks.log", help="where the benchmarks' own output goes")
     ap.add_argument("--list", action="store_true", help="list the benchmarks and their cases")
     args = ap.parse_args(argv)
@@ -127,7 +131,7 @@ def main(argv=None):
     with open(args.log, "w") as log:
         for name in names:
             for case, quick, full, needs in BENCHMARKS[name]:
-                case_args = quick if args.quick else full
+                case_args = [*full, "--smoke"] if args.smoke else quick if args.quick else full
                 if case_args is None:
                     print(f"{name:<16}{case:<34}{'':>9}{'':>9}  skipped (not in --quick)")
                     continue

@@ -42,9 +42,10 @@ def planned_config_hash(command):
     """
     from sklearn_hardness._cli import build_parser
     from sklearn_hardness._cli._reproduce import _reproduce_config
+    from sklearn_hardness.experiments import load_dataset
     from sklearn_hardness.experiments._active import _results_hash
     from sklearn_hardness.experiments._config import resolve_convergence_threshold, run_config
-    from sklearn_hardness.experiments._data import _dataset_spec, load_dataset
+    from sklearn_hardness.experiments._data import _dataset_spec
 
     words = shlex.split(command) if isinstance(command, str) else list(command)
     if words[:2] != ["sklearn-hardness", "reproduce"]:

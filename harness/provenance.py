@@ -12,6 +12,7 @@ its question is revisited).
 from __future__ import annotations
 
 import datetime
+import json
 import os
 import shlex
 import subprocess
@@ -20,12 +21,15 @@ import sys
 from . import ROOT
 from .machine import describe, machine_reference
 
-__all__ = ["git_commit", "script_command", "header", "write_output", "report", "stamp"]
+__all__ = ["git_commit", "script_command", "header", "write_output", "report", "stamp", "provenance_record"]
 
 #: Options whose value is where output goes, not what was computed.
 _WHERE = {"--out", "--cache"}
 #: Options whose value is a data folder: named by its role in the command.
 _DATA = {"--data", "--manifest"}
+#: How ``sklearn-hardness evaluate`` and ``reproduce`` start the header line of what they write: one line of JSON
+#: follows (command, version, date, platform, ...).
+_PROVENANCE = "# provenance "
 
 
 def git_commit(path=ROOT):
@@ -140,6 +144,21 @@ def report(text, out=None):
         write_output(out, text)
 
 
+def provenance_record(text):
+    """The record of the first ``# provenance {...}`` line of an output of ``sklearn-hardness``, or None.
+
+    Examples
+    --------
+    >>> from harness.provenance import provenance_record
+    >>> provenance_record('# provenance {"command": "sklearn-hardness reproduce --quick"}\\ntable')["command"]
+    'sklearn-hardness reproduce --quick'
+    """
+    for line in text.splitlines():
+        if line.startswith(_PROVENANCE):
+            return json.loads(line[len(_PROVENANCE):])
+    return None
+
+
 def _machine_line(machine):
     return f"# machine: {describe(machine_reference() if machine is None else machine)}"
 
@@ -166,7 +185,7 @@ def stamp(path, *, machine=None, commit=None):
     """
     with open(path) as f:
         lines = f.read().split("\n")
-    if not lines[0].startswith("# provenance "):
+    if not lines[0].startswith(_PROVENANCE):
         raise ValueError(f"{path} does not start with the header line of sklearn-hardness evaluate or reproduce.")
     if len(lines) > 1 and lines[1].startswith("# commit: "):
         return False

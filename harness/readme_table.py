@@ -17,13 +17,12 @@ import argparse
 import json
 import os
 import shlex
-import subprocess
-import sys
 import tempfile
 
 from . import ROOT
+from .cli import run_sklearn_hardness
 from .machine import describe, machine_reference
-from .provenance import git_commit
+from .provenance import git_commit, provenance_record
 
 __all__ = ["COMMAND", "START", "END", "write_readme_table", "table_of", "main"]
 
@@ -98,12 +97,10 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as tmp:
         out = args.out or tmp
         words = shlex.split(COMMAND)[1:]
-        subprocess.run([sys.executable, "-m", "sklearn_hardness._cli", *words, "--out", out, "--quiet"], check=True)
+        run_sklearn_hardness([*words, "--out", out, "--quiet"])
         with open(os.path.join(out, "table.txt")) as f:
             text = f.read()
-    from sklearn_hardness._cli._header import read_header
-
-    record = read_header(text)
+    record = provenance_record(text)
     provenance = {"command": record["command"], "commit": commit, "date": record["date"],
                   "machine": describe(machine)}
     changed = write_readme_table(args.readme, table_of(text), provenance)

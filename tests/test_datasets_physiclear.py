@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
+from harness.smoke import write_physiclear_layout
 from sklearn_hardness.datasets import load_physiclear
-from sklearn_hardness.io import write_video
 from sklearn_hardness.utils._lazy import LazyVideoSequence
 
 from ._synthetic import synthetic_press
@@ -43,14 +43,9 @@ VIDEOS = {"toothbrush_handle": 2, "toothbrush_bristles": 2, "eraser": 3, "orange
 
 
 def _layout(root, constants=CONSTANTS, videos=VIDEOS):
-    (root / "utils").mkdir(parents=True)
-    (root / "utils" / "constants.py").write_text(constants)
-    (root / "dataset").mkdir()
-    for k, (obj, n) in enumerate(videos.items()):
-        for i in range(n):
-            write_video(root / "dataset" / f"{obj}_{i}.mov", synthetic_press(n_frames=6, size=(16, 16),
-                                                                              contact_start=2, peak=4, seed=k))
-    return root
+    presses = {obj: [synthetic_press(n_frames=6, size=(16, 16), contact_start=2, peak=4, seed=k)] * n
+               for k, (obj, n) in enumerate(videos.items())}
+    return write_physiclear_layout(root, constants, presses)  # the layout the lab's smoke runs read too
 
 
 @pytest.fixture(scope="module")

@@ -17,7 +17,7 @@ import harness
 from harness.config_hash import planned_config_hash
 from harness.machine import blas_kernels, describe, machine_reference
 from harness.memory import TreePeak, peak_rss_mb, reset_peak
-from harness.provenance import git_commit, header, script_command, stamp, write_output
+from harness.provenance import git_commit, header, provenance_record, script_command, stamp, write_output
 
 
 def test_the_harness_is_this_checkout_s_and_outside_the_package():
@@ -160,6 +160,9 @@ def test_stamp_adds_commit_and_machine_below_the_command_line_s_header(tmp_path)
     lines = path.read_text().splitlines()
     assert lines[1:] == ["# commit: f00", "# machine: " + describe(machine), "title", "table"]
     assert read_header(path.read_text())["command"] == "sklearn-hardness reproduce --quick"
+    # the harness reads the command line's header as the package writes it
+    assert provenance_record(path.read_text()) == read_header(path.read_text())
+    assert provenance_record("no header\n") is None
     assert not stamp(path, machine=machine, commit="f00")  # once
     path.write_text("no header\n")
     with pytest.raises(ValueError, match="header line"):

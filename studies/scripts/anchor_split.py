@@ -2,7 +2,7 @@
 
 Usage::
 
-    python studies/scripts/anchor_split.py --data DATA [--pipelines NAME ...] [--out OUT]
+    python studies/scripts/anchor_split.py --data DATA [--pipelines NAME ...] [--out OUT] [--smoke]
 
 ``DATA`` is a local copy of the public PhysiCLeAR set (its ``dataset/`` and
 ``utils/constants.py``), read with the development objects alone
@@ -37,6 +37,7 @@ from sklearn.metrics import accuracy_score, balanced_accuracy_score
 
 from harness.memory import peak_rss_mb
 from harness.provenance import report
+from harness.smoke import add_smoke_argument, parse_args
 from sklearn_hardness.models import make_named_pipeline, pipeline_names
 
 #: Published per-video hardness accuracy on the split's 7 test objects (Octopi, RSS 2024, read
@@ -108,7 +109,8 @@ def main(argv=None):
     parser.add_argument("--pipelines", nargs="+", default=None,
                         help="named pipelines (default: every one that can run on these presses)")
     parser.add_argument("--out", help="write the table here too, under the harness's header")
-    args = parser.parse_args(argv)
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, pipelines=["peak_change", "contact_geometry"])
     names = args.pipelines or [n for n in pipeline_names() if n not in NOT_RUN]
 
     data = load_development(args.data)

@@ -17,6 +17,7 @@ two ways per seed:
 
     python studies/scripts/augmentation.py [--seeds 0 1 2] [--param NAME=VALUE ...]
         [--augmenters none flip,gain=0.2 ...] [--data EXAMPLE_DATA [--roi]] [--cache DIR] [--n-jobs 2] [--out FILE]
+        [--smoke]
 
 An augmenter is ``none`` or comma-separated ``FrameAugmenter`` settings
 (``flip``, ``noflip``, ``gain=G``, ``drift=D``, ``noise=N``; unnamed ones
@@ -37,6 +38,7 @@ from sim_vs_real_stats import parse_param
 
 from harness.memory import peak_rss_mb
 from harness.provenance import write_output
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.models import make_convlstm_pipeline
 
@@ -59,14 +61,14 @@ def parse_augmenter(spec):
     return kw
 
 
-def pipeline(spec, seed):
+def pipeline(spec, seed, **params):
     """The ConvLSTM of ``evaluate``; its factory's augmenter (log channels set) with ``spec``'s settings."""
     kw = parse_augmenter(spec)
-    pipe = make_convlstm_pipeline(intensity_channels=True, augment=kw is not None, random_state=seed)
+    pipe = make_convlstm_pipeline(intensity_channels=True, augment=kw is not None, random_state=seed, **params)
     return pipe if kw is None else pipe.set_params(**{f"clf__augment__{k}": v for k, v in kw.items()})
 
 
-def main():
+def main(argv=None):
     out = []
 
     def say(text):
@@ -83,10 +85,13 @@ def main():
     parser.add_argument("--cache", default=None, help="folder to keep the rendered simulated sets in")
     parser.add_argument("--n-jobs", type=int, default=2)
     parser.add_argument("--out", default=None, help="also write the output here, after a provenance line")
-    args = parser.parse_args()
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, n_jobs=1)
     for spec in args.augmenters:
         parse_augmenter(spec)
     variant = dict(args.param)
+    sim = dict(tiny_presses("everyday", args.smoke), **variant)  # --smoke: a tiny set
+    net = {"max_epochs": 1} if args.smoke else {}
 
     t0 = time.perf_counter()
     real = None
@@ -99,20 +104,20 @@ def main():
     say(header)
     rows = {spec: [] for spec in args.augmenters}
     for seed in args.seeds:
-        data = make_presses("everyday", random_state=seed, **variant)
-        named = {spec: pipeline(spec, seed) for spec in args.augmenters}
+        data = make_presses("everyday", random_state=seed, **sim)
+        named = {spec: pipeline(spec, seed, **net) for spec in args.augmenters}
         res = evaluate_dataset(data, named, n_jobs=args.n_jobs, random_state=seed, verbose=0)
         table = table_rows(res)
         base = table["peak_change"]["balanced_accuracy"]
         if real is not None:  # every 2nd pixel, as sim_to_real trains
-            videos, target, hardness, _, _ = simulated(seed, cache=args.cache, **variant)
+            videos, target, hardness, _, _ = simulated(seed, cache=args.cache, **sim)
         for spec in args.augmenters:
             bal = table[spec]["balanced_accuracy"]
             lo, hi = table[spec]["balanced_accuracy_ci"]
             recall = recall_per_rank(res.confusion_matrix(spec))
             right = None
             if real is not None:
-                est = pipeline(spec, seed).fit(videos, target)
+                est = pipeline(spec, seed, **net).fit(videos, target)
                 proba = np.asarray(est.predict_proba(real.videos))
                 fams = family_pairs(real.object_name, expected_rank(proba, est.classes_, hardness))
                 right = sum(r for r, _, _ in fams.values())

@@ -20,10 +20,14 @@ set both, where older builds fail with that choice); a named kernel set keeps
         --seeds $(seq 300 319) --n-jobs 2
 
 Everything after ``--`` goes to ``sklearn-hardness reproduce`` (less ``--out``,
-which this sets).
+which this sets). ``--smoke`` (what CI runs) compares ``native`` with ``Haswell``
+on a tiny reproduce command of its own (``SMOKE_REPRODUCE``: two strategies, one
+test object, one seed) on a tiny simulated set, unless arguments are given.
 """
 
 import argparse
+import csv
+import json
 import os
 import subprocess
 import sys
@@ -33,11 +37,24 @@ from collections import defaultdict
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
 
+from harness.cli import run_sklearn_hardness
 from harness.machine import machine_reference
 from harness.provenance import report
+from harness.smoke import add_smoke_argument, parse_args, write_presses_manifest
 
-# private: the results file reproduce resumes from
-from sklearn_hardness.experiments._results import ResultsStore
+#: ``--smoke``'s reproduce arguments, after ``--dataset MANIFEST`` (a tiny simulated set) and before
+#: ``--test-objects`` (its first object).
+SMOKE_REPRODUCE = ["--model", "contact_profile", "--strategies", "thompson", "random", "--seeds", "0", "--quick",
+                   "--set", "n_initial=1", "n_per_query=1", "n_iterations=2", "n_test=1", "n_samples=2"]
+
+
+def smoke_reproduce_args(folder):
+    """A tiny reproduce command's arguments: :data:`SMOKE_REPRODUCE` on a tiny simulated manifest written in
+    ``folder``."""
+    manifest = write_presses_manifest(os.path.join(folder, "presses"))
+    with open(manifest, newline="") as f:
+        first = next(csv.DictReader(f))["object_id"]
+    return ["--dataset", str(manifest), *SMOKE_REPRODUCE, "--test-objects", first]
 
 
 def run_with_kernels(coretype, reproduce_args, out):
@@ -52,8 +69,7 @@ def run_with_kernels(coretype, reproduce_args, out):
     else:
         env["OPENBLAS_CORETYPE"] = coretype
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "sklearn_hardness._cli", "reproduce", *reproduce_args,
-                    "--out", out, "--quiet"], env=env, check=True, stdout=subprocess.DEVNULL)
+    run_sklearn_hardness(["reproduce", *reproduce_args, "--out", out, "--quiet"], env=env, stdout=subprocess.DEVNULL)
     seconds = time.perf_counter() - t0
     return seconds, machine_reference(matmul=False, env=env)["blas"]
 
@@ -71,8 +87,10 @@ def honoured(coretype, blas):
 
 
 def active_runs(out):
-    """The run records of ``results.jsonl`` (read as ``reproduce`` resumes it) by (strategy, test object, seed)."""
-    records = ResultsStore(os.path.join(out, "results.jsonl")).records
+    """The run records of a finished run's ``results.jsonl`` (one JSON record a line) by (strategy, test object,
+    seed)."""
+    with open(os.path.join(out, "results.jsonl")) as f:
+        records = [json.loads(line) for line in f if line.strip()]
     return {(r["key"]["strategy"], r["key"]["test_object"], r["key"]["seed"]): r for r in records
             if r["key"].get("experiment") == "active_sampling"}
 
@@ -101,7 +119,7 @@ def compare(reference, other, n_iterations):
     return rows
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--coretypes", nargs="+", default=["Haswell", "SkylakeX", "Sandybridge"],
                     help="OPENBLAS_CORETYPE of each run, or native (neither it nor OPENBLAS_L2_SIZE set); "
@@ -110,9 +128,10 @@ def main():
     ap.add_argument("--out", default=None, help="also write the report here, after a provenance line")
     ap.add_argument("reproduce_args", nargs=argparse.REMAINDER,
                     help="after --: the arguments of sklearn-hardness reproduce")
-    args = ap.parse_args()
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, coretypes=["native", "Haswell"])
     reproduce_args = args.reproduce_args[1:] if args.reproduce_args[:1] == ["--"] else args.reproduce_args
-    if not reproduce_args:
+    if not reproduce_args and not args.smoke:
         ap.error("give the reproduce command's arguments after --")
     if any(a == "--out" or a.startswith("--out=") for a in reproduce_args):
         ap.error("leave --out out of the reproduce arguments: each kernel set gets its own folder")
@@ -123,6 +142,7 @@ def main():
 
     with tempfile.TemporaryDirectory() as tmp:
         root = args.keep or tmp
+        reproduce_args = reproduce_args or smoke_reproduce_args(tmp)
         folders, seconds, ran = {}, {}, {}
         for coretype in args.coretypes:
             folders[coretype] = os.path.join(root, coretype)

@@ -50,7 +50,7 @@ spread and maximum change, the values of its :class:`IntensityChannels`
 channels; its :class:`FrameScaler` fitted on each fold's training presses).
 
     python studies/scripts/contact_profile_features.py [--seeds 0 1 2 3 4] [--n-jobs 2]
-        [--variant NAME] [--param NAME=VALUE ...] [--heads] [--net-inputs] [--out FILE]
+        [--variant NAME] [--param NAME=VALUE ...] [--heads] [--net-inputs] [--out FILE] [--smoke]
 
 Prints a markdown table (one column per seed and the mean), the correlations,
 time and peak memory; ``--out`` writes the same text with a provenance line. The ideal rows use the renderer's
@@ -64,7 +64,6 @@ import warnings
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from _sim_variants import VARIANTS, variant_params
-from joblib import Parallel, delayed
 from scipy.stats import spearmanr
 from sim_vs_real_stats import parse_param, press_objects
 from sklearn.linear_model import LogisticRegression
@@ -75,6 +74,8 @@ from sklearn.preprocessing import StandardScaler
 
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import report
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses
+from joblib import Parallel, delayed
 from sklearn_hardness.features import ContactProfileFeatures
 from sklearn_hardness.models import make_named_pipeline
 
@@ -139,17 +140,14 @@ def scores(X, y, folds, model=None):
     return [balanced_accuracy_score(y[te], fitted.predict(X[te])) for te, fitted in _fitted(X, y, folds, model)]
 
 
-def _per_object(fitted, X, y, groups, n_classes):
-    """Each test object's label and class: the class of the mean of its presses' probabilities.
-
-    ``evaluate_pipelines``' rule for its ``object_balanced_accuracy`` (the heads here have predict_proba).
-    """
+def object_predictions(fitted, X, y, groups, n_classes):
+    """Each object's label and class: the class of the mean of its presses' probabilities (evaluate's rule)."""
     proba = np.zeros((len(X), n_classes))
-    proba[:, np.asarray(fitted.classes_, dtype=int)] = fitted.predict_proba(X)
+    proba[:, np.asarray(fitted.classes_, dtype=int)] = fitted.predict_proba(X)  # a class a fold lacks: 0
     _, first, index = np.unique(groups, return_index=True, return_inverse=True)
-    total = np.zeros((len(first), n_classes))
+    total = np.zeros((len(first), proba.shape[1]))
     np.add.at(total, index, proba)
-    return y[first], np.argmax(total, axis=1)
+    return y[first], np.argmax(total, axis=1)  # an object's presses share its label
 
 
 def press_and_object_scores(X, y, groups, folds):
@@ -162,13 +160,16 @@ def press_and_object_scores(X, y, groups, folds):
     for te, fitted in _fitted(X, y, folds, None):
         pred = fitted.predict(X[te])
         press.append(balanced_accuracy_score(y[te], pred))
-        object_y, object_pred = _per_object(fitted, X[te], y[te], groups[te], int(y.max()) + 1)
+        object_y, object_pred = object_predictions(fitted, X[te], y[te], groups[te], int(y.max()) + 1)
         objects.append(balanced_accuracy_score(object_y, object_pred))
     return press, objects
 
 
-def heads(seed):
-    """``--heads``: name -> unfitted head (standardised input; balanced class weights)."""
+def heads(seed, n_trees=300, n_rounds=200):
+    """``--heads``: name -> unfitted head (standardised input; balanced class weights).
+
+    ``n_trees``, ``n_rounds``: of the random forest and the gradient boosting (fewer in ``--smoke``).
+    """
     from sklearn.ensemble import HistGradientBoostingClassifier, RandomForestClassifier
 
     from sklearn_hardness.models import ContactProfileNNClassifier
@@ -180,10 +181,10 @@ def heads(seed):
             "logistic, C=0.1": logistic(0.1),
             "logistic, C=10": logistic(10.0),
             'MC-dropout MLP (head="nn")': ContactProfileNNClassifier(class_weight="balanced", random_state=seed),
-            "random forest (300 trees, leaves >= 5)": RandomForestClassifier(
-                300, min_samples_leaf=5, class_weight="balanced", random_state=seed),
-            "gradient boosting (depth 3, 200 rounds)": HistGradientBoostingClassifier(
-                max_depth=3, learning_rate=0.05, max_iter=200, class_weight="balanced", random_state=seed)}
+            f"random forest ({n_trees} trees, leaves >= 5)": RandomForestClassifier(
+                n_trees, min_samples_leaf=5, class_weight="balanced", random_state=seed),
+            f"gradient boosting (depth 3, {n_rounds} rounds)": HistGradientBoostingClassifier(
+                max_depth=3, learning_rate=0.05, max_iter=n_rounds, class_weight="balanced", random_state=seed)}
 
 
 NET_INPUT_ROWS = ("flow magnitude quantiles (the OFNN pipeline's input)",
@@ -229,7 +230,7 @@ def net_input_scores(cp, flow, frames, y, folds):
                                       for (tr, te), (a, b) in zip(folds, intensity)])}
 
 
-def run_seed(seed, overrides, n_jobs, with_heads=False, with_net_inputs=False):
+def run_seed(seed, overrides, n_jobs, with_heads=False, with_net_inputs=False, head_sizes=()):
     from sklearn_hardness.datasets import make_presses
 
     data = make_presses("everyday", return_mechanics=True, random_state=seed, **overrides)
@@ -256,7 +257,7 @@ def run_seed(seed, overrides, n_jobs, with_heads=False, with_net_inputs=False):
     head_scores = {}
     if with_heads:
         head_scores = {name: float(np.mean(scores(V[:, 1:], y, folds, model)))
-                       for name, model in heads(seed).items()}
+                       for name, model in heads(seed, *head_sizes).items()}
     net_scores = {}
     if with_net_inputs:
         with warnings.catch_warnings():
@@ -292,11 +293,13 @@ def main(argv=None):
     ap.add_argument("--net-inputs", action="store_true",
                     help="also score the paper's nets' inputs, alone and beside the twelve features")
     ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
-    args = ap.parse_args(argv)
-    overrides = variant_params(args.variant, args.param)
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, seeds=[0], n_jobs=1)
+    overrides = dict(tiny_presses("everyday", args.smoke), **variant_params(args.variant, args.param))
     reset_peak()
     t0 = time.perf_counter()
-    results = [run_seed(s, overrides, args.n_jobs, args.heads, args.net_inputs) for s in args.seeds]
+    head_sizes = (10, 10) if args.smoke else ()  # --smoke: 10 trees, 10 boosting rounds
+    results = [run_seed(s, overrides, args.n_jobs, args.heads, args.net_inputs, head_sizes) for s in args.seeds]
     seconds = time.perf_counter() - t0
     lines = [f"everyday preset{f' (variant {args.variant})' if args.variant else ''}"
              f"{f', overrides {overrides}' if overrides else ''}: balanced accuracy, object-disjoint 5 folds, "

@@ -14,7 +14,7 @@ Four parts, each printing what it measured:
    the simulator's mechanics (start: first frame with approach > 0; peak:
    frame of maximum approach), and time per video.
 
-    python studies/scripts/contact_selection.py [--n-weak 150] [--n-none 50] [--n-silicone 20]
+    python studies/scripts/contact_selection.py [--n-weak 150] [--n-none 50] [--n-silicone 20] [--smoke]
 """
 
 import argparse
@@ -24,12 +24,15 @@ import warnings
 from collections import Counter
 from pathlib import Path
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
+
 from joblib import Parallel, delayed
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests"))
 from _weak_contact import KINDS, weak_press  # noqa: E402
 
+from harness.smoke import add_smoke_argument, parse_args  # noqa: E402
 from sklearn_hardness.datasets import make_presses  # noqa: E402
 from sklearn_hardness.preprocessing import ContactFrameSelector, contact_curve  # noqa: E402
 
@@ -69,13 +72,14 @@ def _errors(found, err):
     return f"{np.abs(err[found]).mean():6.2f}" if found.any() else "   nan"
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n-weak", type=int, default=150)
     parser.add_argument("--n-none", type=int, default=50)
     parser.add_argument("--n-silicone", type=int, default=20, help="presses per silicone5 object")
     parser.add_argument("--n-jobs", type=int, default=2, help="processes making the videos")
-    args = parser.parse_args()
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, n_weak=3, n_none=1, n_silicone=1, n_jobs=1)
 
     t0 = time.perf_counter()
     weak = Parallel(n_jobs=args.n_jobs)(delayed(_weak)(i) for i in range(args.n_weak))
@@ -111,13 +115,15 @@ def main():
     print(f"\n3. the weak presses truncated to 3-7 frames: outcomes "
           f"{dict(Counter(column(weak, 'short_status').tolist()))}")
 
-    data = make_presses("silicone5", n_per_class=args.n_silicone, return_mechanics=True, random_state=0)
+    size = (48, 64) if args.smoke else (240, 320)
+    data = make_presses("silicone5", n_per_class=args.n_silicone, image_size=size, return_mechanics=True,
+                        random_state=0)
     true_start = np.array([int(np.flatnonzero(m["approach"] > 0)[0]) for m in data.mechanics])
     true_peak = np.array([int(np.argmax(m["approach"])) for m in data.mechanics])
     videos = data.videos
     sel, per_video = _select(videos)
     f = sel.contact_found
-    print(f"\n4. silicone5 ({len(videos)} presses, 240x320): contact found in {f.sum()}; "
+    print(f"\n4. silicone5 ({len(videos)} presses, {size[0]}x{size[1]}): contact found in {f.sum()}; "
           f"mean |start err| {_errors(f, sel.contact_start - true_start).strip()} frames, "
           f"|peak err| {_errors(f, sel.contact_peak - true_peak).strip()}; {1000 * per_video:.1f} ms/video")
 

@@ -13,17 +13,20 @@ draws its own training presses and initial weights. Configurations:
 * ``std+lr3e-3``: and lr 3e-3.
 
     python studies/scripts/convergence.py [--seeds 20] [--configs std,std+clip] [--placement head] [--n-jobs 2]
+        [--smoke]
 """
 
 import argparse
 import time
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 import torch
-from joblib import Parallel, delayed
 from mc_share import silicone5_frames, split  # the script's folder is on sys.path
 from skorch.callbacks import GradientNormClipping, LRScheduler
 
+from harness.smoke import add_smoke_argument, parse_args
+from joblib import Parallel, delayed
 from sklearn_hardness.models import ConvLSTMClassifier, is_converged
 
 
@@ -50,15 +53,16 @@ def one_run(X, y, config, placement, epochs, seed):
     return config, seed, net.final_train_loss_, time.perf_counter() - t0
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=20)
     parser.add_argument("--configs", default="raw,std,std+clip,std+cosine,std+lr3e-3")
     parser.add_argument("--placement", default="head")
     parser.add_argument("--epochs", type=int, default=100)
     parser.add_argument("--n-jobs", type=int, default=1)
-    args = parser.parse_args()
-    X, y = silicone5_frames(15)
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, seeds=1, configs="std,std+clip", epochs=2)
+    X, y = silicone5_frames(6, image_size=(48, 64)) if args.smoke else silicone5_frames(15)
     configs = args.configs.split(",")
     print(f"silicone5 frames {X.shape}; placement {args.placement}; {args.epochs} epochs; {args.seeds} seeds")
     # seed-major order and one line per finished run, so a cut-short run still reports

@@ -21,7 +21,7 @@ Two questions, on the ``everyday`` preset (``make_presses("everyday", random_sta
    ``drive_compliance`` set to the preset's.
 
     python studies/scripts/loading_compliance.py [--seeds 0 1 2 3 4] [--firm-force 15 25]
-        [--n-jobs 2] [--out FILE]
+        [--n-jobs 2] [--out FILE] [--smoke]
 
 Prints both tables (mean over seeds, and the sd of the first, beside each seed), the time and the peak
 memory; ``--out`` writes the same text with a provenance line. The video
@@ -37,6 +37,7 @@ import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 
 from harness.memory import peak_rss_mb, reset_peak
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses
 
 #: Inputs compared across forces: label -> (``features``, position source, ``drive_compliance`` from the preset).
 ACROSS = {
@@ -56,15 +57,16 @@ def force_position(data, source):
     return [np.column_stack([f, m["position"]]) for f, m in zip(data.force, data.mechanics)]
 
 
-def across_forces(seed, firm_force):
+def across_forces(seed, firm_force, **sim):
     """Balanced accuracy per ``ACROSS`` input: trained on seed's presses, tested on presses pushed harder."""
     from sklearn.metrics import balanced_accuracy_score
 
     from sklearn_hardness.datasets import make_presses
     from sklearn_hardness.models import make_loading_compliance_pipeline
 
-    train = make_presses("everyday", random_state=seed, return_mechanics=True)
-    firm = make_presses("everyday", random_state=seed + 1000, force_range=tuple(firm_force), return_mechanics=True)
+    train = make_presses("everyday", random_state=seed, return_mechanics=True, **sim)
+    firm = make_presses("everyday", random_state=seed + 1000, force_range=tuple(firm_force), return_mechanics=True,
+                        **sim)
     out = {}
     for label, (features, source, give) in ACROSS.items():
         pipe = make_loading_compliance_pipeline(
@@ -81,7 +83,9 @@ def main(argv=None):
                     help="force range (N) of the presses pushed harder")
     ap.add_argument("--n-jobs", type=int, default=2)
     ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
-    args = ap.parse_args(argv)
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, seeds=[0], n_jobs=1)
+    sim = tiny_presses("everyday", args.smoke)  # --smoke: tiny sets
     from _evaluate_dataset import evaluate_dataset, table_rows
 
     from harness.provenance import report
@@ -94,12 +98,12 @@ def main(argv=None):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)  # the preset's cut-short presses: NaN figures, imputed
         for seed in args.seeds:
-            result = evaluate_dataset(make_presses("everyday", random_state=seed),
+            result = evaluate_dataset(make_presses("everyday", random_state=seed, **sim),
                                       ["contact_profile", "loading_compliance"], random_state=seed,
                                       n_jobs=args.n_jobs, verbose=0)
             table = table_rows(result)
             rows.append((seed, table, result.recommended))
-            across.append(across_forces(seed, args.firm_force))
+            across.append(across_forces(seed, args.firm_force, **sim))
 
     def cell(row):
         lo, hi = row["balanced_accuracy_ci"]

@@ -27,7 +27,7 @@ dataset with the same shape as the ``everyday`` preset (42 objects, 4 presses
 each, 3 ranks):
 
     python studies/scripts/margin_interval.py [--draws 400] [--effects 1.0 1.4] [--n-repeats 1]
-        [--family 4] [--n-jobs 2] [--out FILE]
+        [--family 4] [--n-jobs 2] [--out FILE] [--smoke]
 
 With ``--n-repeats R`` the intervals run over the ``R x 5`` fold differences:
 the plain one treats them as independent, which they are not (the repetitions
@@ -49,7 +49,6 @@ import time
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from _evaluate_dataset import evaluate_dataset, fold_scores, table_rows, test_folds
-from joblib import Parallel, delayed
 from scipy import stats
 from sklearn.linear_model import LogisticRegression
 from sklearn.pipeline import make_pipeline
@@ -58,6 +57,8 @@ from sklearn.utils import Bunch
 
 from harness.memory import peak_rss_mb
 from harness.provenance import report
+from harness.smoke import add_smoke_argument, parse_args
+from joblib import Parallel, delayed
 
 N_OBJECTS, PER_OBJECT, CV = 42, 4, 5
 
@@ -119,7 +120,7 @@ def share(k, n):
     return f"{k / n:.3f} [{lo:.3f}, {hi:.3f}]"
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--draws", type=int, default=400, help="datasets per scenario")
     parser.add_argument("--effects", type=float, nargs="*", default=[1.0, 1.4],
@@ -130,7 +131,8 @@ def main():
                         help="pipelines as good as the baseline in the family scenario (0: skip it)")
     parser.add_argument("--n-jobs", type=int, default=2)
     parser.add_argument("--out", default=None, help="also write the output here, after a provenance line")
-    args = parser.parse_args()
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, draws=2, effects=[1.0], family=2, n_jobs=1)
 
     repeats = f" x {args.n_repeats} repetitions" if args.n_repeats > 1 else ""
     lines = [f"{N_OBJECTS} objects x {PER_OBJECT} presses, 3 ranks, object-disjoint {CV} folds{repeats}, "

@@ -9,24 +9,26 @@ the pooled one, ``sum_i mc_i / sum_i total_i``. Beside it: held-out accuracy
 on all objects (dropout off) and the final training loss (the paper's
 convergence rule is loss <= 1).
 
-    python studies/scripts/mc_share.py [--seeds 3] [--placements layers,channels,head]
+    python studies/scripts/mc_share.py [--seeds 3] [--placements layers,channels,head] [--smoke]
 """
 
 import argparse
 import time
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 import torch
 
+from harness.smoke import add_smoke_argument, parse_args
 from sklearn_hardness.active import variance_decomposition
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.models import ConvLSTMClassifier
 from sklearn_hardness.preprocessing import ContactFrameSelector
 
 
-def silicone5_frames(n_per_class, random_state=0):
+def silicone5_frames(n_per_class, random_state=0, image_size=(240, 320)):
     """Selected 18x24 grey difference frames (n, 4, 18, 24, 1) of simulated silicone5, and labels."""
-    data = make_presses("silicone5", n_per_class=n_per_class, random_state=random_state)
+    data = make_presses("silicone5", n_per_class=n_per_class, image_size=image_size, random_state=random_state)
     sel = ContactFrameSelector(n_between=2, frame_size=(18, 24), color="gray")
     return sel.fit_transform(data.videos), np.asarray(data.target)
 
@@ -39,7 +41,7 @@ def split(y, n_train, seed):
     return train, test
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--placements", default="layers,channels,head")
@@ -47,9 +49,10 @@ def main():
     parser.add_argument("--epochs", type=int, default=100)
     parser.add_argument("--n-per-class", type=int, default=15, help="presses simulated per object")
     parser.add_argument("--threads", type=int, default=1)
-    args = parser.parse_args()
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, seeds=1, placements="head", epochs=2, n_per_class=6)
     torch.set_num_threads(args.threads)
-    X, y = silicone5_frames(args.n_per_class)
+    X, y = silicone5_frames(args.n_per_class, image_size=(48, 64) if args.smoke else (240, 320))
     print(f"silicone5 frames {X.shape}, dropout {args.dropout}, {args.epochs} epochs, 50 MC passes")
     print(f"{'placement':<10}{'seed':>5}{'test obj':>9}{'MC share':>10}{'Eq.2 total':>12}{'acc':>7}"
           f"{'loss':>7}{'fit s':>7}{'MC/pp':>7}")

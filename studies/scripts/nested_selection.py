@@ -2,7 +2,7 @@
 
 Usage::
 
-    python studies/scripts/nested_selection.py --data DATA [--n-repeats 5] [--cache DIR] [--out OUT]
+    python studies/scripts/nested_selection.py --data DATA [--n-repeats 5] [--cache DIR] [--out OUT] [--smoke]
 
 ``DATA`` is a local copy of the public PhysiCLeAR set (or the development manifest),
 read with the 49 development objects alone (``_physiclear.py``).
@@ -41,13 +41,14 @@ import warnings
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from _physiclear import load_development
-from joblib import Memory, Parallel, delayed
 from sklearn.base import BaseEstimator, TransformerMixin, clone
 from sklearn.metrics import balanced_accuracy_score
 from sklearn.model_selection import GridSearchCV, StratifiedGroupKFold
 from sklearn.pipeline import Pipeline
 
 from harness.provenance import report
+from harness.smoke import add_smoke_argument, parse_args
+from joblib import Memory, Parallel, delayed
 from sklearn_hardness.model_selection import corrected_interval
 from sklearn_hardness.models import make_named_pipeline
 
@@ -124,7 +125,9 @@ def main(argv=None):
     ap.add_argument("--n-jobs", type=int, default=2)
     ap.add_argument("--cache", help="a folder for the first steps' rows (computed once per press)")
     ap.add_argument("--out", help="write the tables here too, under the harness's header")
-    args = ap.parse_args(argv)
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, n_repeats=1, n_jobs=1)
+    candidates = CANDIDATES[:3] if args.smoke else CANDIDATES  # --smoke: the three cheapest
 
     start = time.perf_counter()
     data = load_development(args.data)
@@ -133,7 +136,7 @@ def main(argv=None):
         else first_step_rows
     paths = tuple(str(p) for p in data.paths) if "paths" in data else None
     tables = {}
-    for name in CANDIDATES:  # pipelines that share a first step share its rows
+    for name in candidates:  # pipelines that share a first step share its rows
         same = next((other for other in tables if repr(first_step(other)) == repr(first_step(name))), None)
         tables[name] = tables[same] if same else rows(name, paths, data.videos, args.n_jobs)
     features_s = time.perf_counter() - start
@@ -141,20 +144,20 @@ def main(argv=None):
     folds = [(r, train, test) for r in range(args.n_repeats)
              for train, test in StratifiedGroupKFold(5, shuffle=True, random_state=r).split(y, y, family)]
     results = Parallel(n_jobs=args.n_jobs)(
-        delayed(outer_fold)(train, test, y, family, tables, CANDIDATES, 1000 + r) for r, train, test in folds)
+        delayed(outer_fold)(train, test, y, family, tables, candidates, 1000 + r) for r, train, test in folds)
     ratio = float(np.mean([len(test) / len(train) for _, train, test in folds]))
 
-    own = {name: np.array([res[0][name] for res in results]) for name in CANDIDATES}
+    own = {name: np.array([res[0][name] for res in results]) for name in candidates}
     nested = np.array([res[2] for res in results])
     picked = [res[1] for res in results]
     base = own["peak_change"]
     lines = [f"{len(np.unique(data.object_id))} development objects ({len(np.unique(family))} families), "
              f"{len(y)} presses; outer: StratifiedGroupKFold(5) by family x {args.n_repeats} repetitions "
-             f"(seeds 0-{args.n_repeats - 1}); inner: GridSearchCV over the {len(CANDIDATES)} candidates, "
+             f"(seeds 0-{args.n_repeats - 1}); inner: GridSearchCV over the {len(candidates)} candidates, "
              "StratifiedGroupKFold(5) by family within the outer training fold; balanced accuracy per press, "
              "corrected 95% t-intervals (Nadeau-Bengio), clipped to the score's range",
              f"{'pipeline':38s} {'bal. accuracy [95% CI]':24s} {'vs peak_change [95% CI]':26s} {'picked':>7s}"]
-    for name in CANDIDATES:
+    for name in candidates:
         m, (lo, hi) = corrected_interval(own[name], ratio, bounds=(0, 1))
         d, (dlo, dhi) = corrected_interval(own[name], ratio, baseline=base, bounds=(-1, 1))
         vs = "" if name == "peak_change" else f"{d:+.3f} [{dlo:+.2f}, {dhi:+.2f}]"
@@ -163,7 +166,7 @@ def main(argv=None):
     d, (dlo, dhi) = corrected_interval(nested, ratio, baseline=base, bounds=(-1, 1))
     lines.append(f"{'nested: the inner folds pick one':38s} {m:.3f} [{lo:.2f}, {hi:.2f}]{'':6s} "
                  f"{d:+.3f} [{dlo:+.2f}, {dhi:+.2f}]")
-    best = max(CANDIDATES, key=lambda n: own[n].mean())
+    best = max(candidates, key=lambda n: own[n].mean())
     lines += [f"best single candidate on these outer folds: {best} {own[best].mean():.3f}; the nested figure is "
               f"what choosing by cross-validation is worth on new objects ({nested.mean() - own[best].mean():+.3f})",
               "picked per outer fold: " + " ".join(picked),

@@ -2,7 +2,7 @@
 
 Usage::
 
-    python studies/scripts/physiclear_exploration.py --data DATA [--cnn] [--out OUT] [--cache DIR]
+    python studies/scripts/physiclear_exploration.py --data DATA [--cnn] [--out OUT] [--cache DIR] [--smoke]
 
 Every variant tried while looking for a model that reads the imprint (its texture,
 its appearance, its geometry) is run here, on the presses of the public set's
@@ -21,7 +21,8 @@ one that was run; the library's :class:`~sklearn_hardness.features.ImprintTextur
 was built from it afterwards. The contact geometry is also read at twice the resolution (160 px on the long side,
 ``sigma=2``). The CNN (``--cnn``) is a small one trained from
 scratch on every frame of the loading phase (60x80, 8 epochs, flips, gain,
-shifts and noise), probabilities pooled per press.
+shifts and noise), probabilities pooled per press. ``--smoke``: 2 folds once, 10 trees and boosting rounds,
+the CNN one epoch on one fold, with the global scale only.
 """
 
 from __future__ import annotations
@@ -36,7 +37,6 @@ import _harness  # noqa: F401 - puts the repository root on sys.path
 import cv2
 import numpy as np
 from _physiclear import load_development
-from joblib import Parallel, delayed
 from scipy.optimize import minimize
 from scipy.special import expit
 from skimage.feature import graycomatrix, graycoprops, local_binary_pattern
@@ -50,6 +50,8 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
 from harness.provenance import report
+from harness.smoke import add_smoke_argument, parse_args
+from joblib import Parallel, delayed
 from sklearn_hardness.features import ContactGeometryFeatures, ContactProfileFeatures
 from sklearn_hardness.features._loading_moments import loading_moments  # the features' own moments
 
@@ -250,8 +252,11 @@ def _cross_val(estimator, X, y, folds):
     return proba
 
 
-def _variants(names):
-    """Every feature-and-head variant tried, in the order they were tried: (label, estimator)."""
+def _variants(names, n_trees=500, n_rounds=200):
+    """Every feature-and-head variant tried, in the order they were tried: (label, estimator).
+
+    ``n_trees``, ``n_rounds``: of the random forests and the gradient boosting (fewer in ``--smoke``).
+    """
     out = []
     families = {"one number (peak change)": r"^pk_int_log_mean$", "intensity": r"^pk_int_",
                 "spectrum": r"^pk_spec_", "Gabor": r"^pk_gabor_", "LBP": r"^pk_lbp_", "co-occurrence": r"^pk_glcm_",
@@ -271,9 +276,9 @@ def _variants(names):
         cols = _columns(names, pattern)
         pick = ColumnTransformer([("keep", "passthrough", cols)])
         out.append((f"random forest, {label}", make_pipeline(pick, RandomForestClassifier(
-            500, min_samples_leaf=3, class_weight="balanced", random_state=0, n_jobs=1))))
+            n_trees, min_samples_leaf=3, class_weight="balanced", random_state=0, n_jobs=1))))
         out.append((f"gradient boosting, {label}", make_pipeline(pick, HistGradientBoostingClassifier(
-            max_depth=3, learning_rate=0.05, max_iter=200, class_weight="balanced", random_state=0))))
+            max_depth=3, learning_rate=0.05, max_iter=n_rounds, class_weight="balanced", random_state=0))))
     out.append(("geometry scale-free (contact_geometry)", _logistic(names, GEOMETRY_SF, 1.0)))
     out.append(("geometry all 17", _logistic(names, r"^geom_", 1.0)))
     out.append(("contact profile 12", _logistic(names, r"^prof_", 1.0)))
@@ -361,7 +366,9 @@ def main(argv=None):
     parser.add_argument("--cnn", action="store_true", help="also the two CNN runs (about 20 min each on 2 cores)")
     parser.add_argument("--n-jobs", type=int, default=2)
     parser.add_argument("--out", help="write the tables here too, under the harness's header")
-    args = parser.parse_args(argv)
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, n_jobs=1)
+    n_splits, n_repeats, cnn_folds, cnn_epochs = (2, 1, 1, 1) if args.smoke else (5, 5, 5, 8)
     t0 = time.perf_counter()
     data = load_development(args.data)
     split = getattr(data, "split", None)
@@ -374,25 +381,28 @@ def main(argv=None):
     y, family, objects = sub.target, np.asarray(data.family)[keep], np.asarray(data.object_id)[keep]
     X, names, frames = _features(sub, args.n_jobs)
     rng = np.random.RandomState(0)
-    folds = [f for _ in range(5) for f in StratifiedGroupKFold(5, shuffle=True, random_state=rng).split(X, y, family)]
+    folds = [f for _ in range(n_repeats)
+             for f in StratifiedGroupKFold(n_splits, shuffle=True, random_state=rng).split(X, y, family)]
     lines = [f"{len(y)} presses of {len(set(objects))} objects ({len(set(family))} families; split train+val), "
              f"classes {dict(zip(data.target_names, np.bincount(y, minlength=3).tolist()))}; family-grouped "
              "5 x 5 folds, seed 0", "",
              f"{'variant':70s} {'BA per press':>16s} {'accuracy':>9s} {'BA per object':>14s}"]
-    for label, estimator in _variants(names):
+    for label, estimator in _variants(names, *((10, 10) if args.smoke else ())):
         ba, sd, acc, oba = _scores(y, objects, folds, _cross_val(estimator, X, y, folds))
         lines.append(f"{label:70s} {ba:7.3f} ± {sd:5.3f} {acc:9.3f} {oba:14.3f}")
         print(lines[-1], flush=True)
     if args.cnn:
         lines.append("")
         lines.append("CNN from scratch on the loading-phase frames (first 5 folds; the rows above over those 5 folds:")
+        cnn = folds[:cnn_folds]
         for label, estimator in (("one number", _logistic(names, r"^pk_int_log_mean$", 1.0)),
                                  ("geometry scale-free", _logistic(names, GEOMETRY_SF, 1.0))):
-            ba, sd, acc, oba = _scores(y, objects, folds[:5], _cross_val(estimator, X, y, folds[:5]))
+            ba, sd, acc, oba = _scores(y, objects, cnn, _cross_val(estimator, X, y, cnn))
             lines.append(f"{label + ' (5 folds)':70s} {ba:7.3f} ± {sd:5.3f} {acc:9.3f} {oba:14.3f}")
-        for normalise in ("global", "per image"):
-            proba = [_cnn_proba(frames, y, train, test, normalise, k) for k, (train, test) in enumerate(folds[:5])]
-            ba, sd, acc, oba = _scores(y, objects, folds[:5], proba)
+        for normalise in ("global",) if args.smoke else ("global", "per image"):
+            proba = [_cnn_proba(frames, y, train, test, normalise, k, cnn_epochs)
+                     for k, (train, test) in enumerate(cnn)]
+            ba, sd, acc, oba = _scores(y, objects, cnn, proba)
             lines.append(f"{'CNN, ' + normalise + ' scale (5 folds)':70s} {ba:7.3f} ± {sd:5.3f} {acc:9.3f} {oba:14.3f}")
             print(lines[-1], flush=True)
     lines.append(f"\n{time.perf_counter() - t0:.0f} s")

@@ -12,6 +12,7 @@ initial weights. Prints test accuracy (mean and std over seeds), time for all
 seeds and peak memory side by side.
 
     python studies/scripts/pipeline_inputs.py [--presets silicone5 shore9] [--seeds 5]
+    python studies/scripts/pipeline_inputs.py --smoke   # tiny sets, 2 training presses per object, one epoch
 """
 
 import argparse
@@ -27,6 +28,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _harness  # noqa: E402,F401 - puts the repository root on sys.path
 
 from harness.memory import peak_rss_mb, reset_peak  # noqa: E402
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses  # noqa: E402
 from sklearn_hardness.datasets import make_presses  # noqa: E402
 from sklearn_hardness.features import OpticalFlowFeatures  # noqa: E402
 from sklearn_hardness.models import (  # noqa: E402
@@ -43,8 +45,8 @@ def _train_test(y, n_train, seed):
     return train, np.setdiff1d(np.arange(len(y)), train)
 
 
-def _variants(videos):
-    """(name, input X, classifier factory) of each compared variant."""
+def _variants(videos, max_epochs=None):
+    """(name, input X, classifier factory) of each compared variant (``max_epochs``: the nets', None: theirs)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         raw = make_ofnn_pipeline().named_steps["frames"].set_params(n_jobs=2).fit_transform(videos)
@@ -54,25 +56,28 @@ def _variants(videos):
     convlstm = make_convlstm_pipeline(intensity_channels=True)  # its FrameScaler and IntensityChannels steps
     scaled = convlstm.named_steps["scale"].fit_transform(frames)
     channels = convlstm.named_steps["intensity"].fit_transform(scaled)
+    epochs = {} if max_epochs is None else {"max_epochs": max_epochs}
+    ofnn_epochs = {"max_epochs": 50, **epochs}
     return [
-        ("ofnn, tracks (paper)", tracks, lambda s: OFNNClassifier(max_epochs=50, random_state=s)),
-        ("ofnn, magnitude quantiles", quantiles, lambda s: OFNNClassifier(max_epochs=50, random_state=s)),
-        ("convlstm 12x16, frames (paper)", scaled, lambda s: ConvLSTMClassifier(random_state=s)),
-        ("convlstm 12x16, + intensity", channels, lambda s: ConvLSTMClassifier(random_state=s)),
+        ("ofnn, tracks (paper)", tracks, lambda s: OFNNClassifier(**ofnn_epochs, random_state=s)),
+        ("ofnn, magnitude quantiles", quantiles, lambda s: OFNNClassifier(**ofnn_epochs, random_state=s)),
+        ("convlstm 12x16, frames (paper)", scaled, lambda s: ConvLSTMClassifier(**epochs, random_state=s)),
+        ("convlstm 12x16, + intensity", channels, lambda s: ConvLSTMClassifier(**epochs, random_state=s)),
     ]
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--presets", nargs="+", default=["silicone5", "shore9"])
     parser.add_argument("--seeds", type=int, default=5)
     parser.add_argument("--n-train", type=int, default=5, help="training presses per object")
-    args = parser.parse_args()
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, seeds=1, n_train=2)
     for preset in args.presets:
-        data = make_presses(preset, random_state=0)
+        data = make_presses(preset, random_state=0, **tiny_presses(preset, args.smoke))
         y = np.asarray(data.target)
         t0 = time.perf_counter()
-        variants = _variants(data.videos)
+        variants = _variants(data.videos, 1 if args.smoke else None)
         print(f"\n{preset}: {len(y)} presses of {len(np.unique(y))} objects, {args.n_train} training presses "
               f"per object, the rest for testing, {args.seeds} seeds (frames selected in "
               f"{time.perf_counter() - t0:.0f} s)")

@@ -7,6 +7,8 @@ pooled over the silicone5 runs, and fed into the exact power of a two-sided pair
 (noncentral t). The plan is ``studies/preregistration/thompson_vs_random.md``.
 
     python studies/scripts/power_thompson.py [--effect 5] [--sd SD] [--power 0.8] [--alpha 0.05] [--objects 5]
+
+It reads three small tables and takes a second: ``--smoke`` (what CI runs) runs it as it is.
 """
 
 import argparse
@@ -14,7 +16,10 @@ import math
 import os
 import re
 
+import _harness  # noqa: F401 - puts the repository root on sys.path
 from scipy import stats
+
+from harness.smoke import add_smoke_argument, parse_args
 
 OUTPUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "outputs")
 # the silicone5 tables with a thompson row (the paper's settings; the fast setting; its fresh seeds)
@@ -50,14 +55,15 @@ def pairs_needed(effect, sd, target, alpha):
     return n
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--effect", type=float, default=5.0, help="difference to detect, points (default 5)")
     ap.add_argument("--sd", type=float, default=None, help="paired s.d., points (default: pooled from the tables)")
     ap.add_argument("--power", type=float, default=0.8)
     ap.add_argument("--alpha", type=float, default=0.05)
     ap.add_argument("--objects", type=int, default=5, help="test objects per seed (silicone5: 5)")
-    args = ap.parse_args()
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv)
     ss = dof = 0.0
     for name in TABLES:
         n, diff, sd = paired_sd(os.path.join(OUTPUT, name))

@@ -2,7 +2,7 @@
 
 Usage::
 
-    python studies/scripts/real_contact_geometry.py --data DATA [--n-repeats 5] [--n-jobs 1]
+    python studies/scripts/real_contact_geometry.py --data DATA [--n-repeats 5] [--n-jobs 1] [--smoke]
 
 ``DATA``: a copy of the public PhysiCLeAR set (its ``dataset/`` and
 ``utils/constants.py``), read with the development objects alone
@@ -40,6 +40,7 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.preprocessing import StandardScaler
 
 from harness.provenance import header
+from harness.smoke import add_smoke_argument, parse_args
 from sklearn_hardness.features import ContactGeometryFeatures, ContactProfileFeatures
 from sklearn_hardness.model_selection import evaluate_pipelines
 from sklearn_hardness.models import (
@@ -107,7 +108,8 @@ def main(argv=None):
                         " or a manifest CSV of the development objects' presses")
     parser.add_argument("--n-repeats", type=int, default=5)
     parser.add_argument("--n-jobs", type=int, default=1)
-    args = parser.parse_args(argv)
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, n_repeats=1)
     print(header(sys.argv if argv is None else [sys.argv[0], *argv]), flush=True)
 
     data = load_development(args.data)

@@ -10,7 +10,7 @@ pipeline recommended on one draw, reports its margin over the baseline on
 the *other* draws:
 
     python studies/scripts/recommendation.py [--seeds 0 1 2] [--param NAME=VALUE ...]
-        [--n-jobs 2] [--out FILE]
+        [--n-jobs 2] [--out FILE] [--smoke]
 
 (``--param kinds_by_rank=false --param conformity=0.1``: the variant whose
 ranking of the pipelines is nearest the real one, ``docs/simulator.md``.)
@@ -29,6 +29,7 @@ from sim_vs_real_stats import parse_param
 
 from harness.memory import peak_rss_mb
 from harness.provenance import report
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses
 from sklearn_hardness.datasets import make_presses
 
 
@@ -38,7 +39,7 @@ def margins(result):
             if r["vs_baseline"] is not None}
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2],
                         help="simulated draws (objects, folds and nets)")
@@ -46,7 +47,8 @@ def main():
                         help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
     parser.add_argument("--n-jobs", type=int, default=2)
     parser.add_argument("--out", default=None, help="also write the output here, after a provenance line")
-    args = parser.parse_args()
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, seeds=[0, 1], n_jobs=1)
     if len(args.seeds) < 2:
         parser.error("--seeds needs at least two draws: a recommendation is checked on the others")
     variant = dict(args.param)
@@ -57,7 +59,7 @@ def main():
     per_seed, recommended = {}, {}
     for seed in args.seeds:
         t0 = time.perf_counter()
-        data = make_presses("everyday", random_state=seed, **variant)
+        data = make_presses("everyday", random_state=seed, **dict(tiny_presses("everyday", args.smoke), **variant))
         result = evaluate_dataset(data, n_jobs=args.n_jobs, random_state=seed, verbose=0)
         per_seed[seed] = margins(result)
         recommended[seed] = (result.recommended, result.recommended_with_samples)

@@ -31,7 +31,7 @@ The variants are defined in ``_sim_variants.py``; the other simulator
 benchmarks take the same names (``--variant``).
 
     python studies/scripts/sim_confounds.py [--variants ...] [--seed 0] [--n-jobs 2]
-        [--out studies/outputs/sim_confounds.txt]
+        [--out studies/outputs/sim_confounds.txt] [--smoke]
 
 Prints one table (balanced accuracy [95% CI over folds] per pipeline and
 variant), the time and peak memory; ``--out`` writes it with a provenance line.
@@ -48,6 +48,7 @@ from _sim_variants import VARIANTS
 
 from harness.memory import peak_rss_mb
 from harness.provenance import report
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses
 from sklearn_hardness.datasets import make_presses
 
 
@@ -62,9 +63,9 @@ def kind_of(object_id):
     return "-".join(str(object_id).split("-")[2:])
 
 
-def run_variant(name, seed, n_jobs):
+def run_variant(name, seed, n_jobs, **sim):
     overrides, groups = VARIANTS[name]
-    data = make_presses("everyday", random_state=seed, **overrides)
+    data = make_presses("everyday", random_state=seed, **dict(sim, **overrides))
     # grouped by kind, the per-object scores class each kind (its presses' mean probabilities)
     groups = np.array([kind_of(o) for o in data.object_id]) if groups == "kind" else data.object_id
     t0 = time.perf_counter()
@@ -72,17 +73,18 @@ def run_variant(name, seed, n_jobs):
     return result, time.perf_counter() - t0, len(np.unique(groups))
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
     parser.add_argument("--seed", type=int, default=0, help="seed of the simulated presses, folds and nets")
     parser.add_argument("--n-jobs", type=int, default=2)
     parser.add_argument("--out", default=None, help="write the table here, with a provenance line")
-    args = parser.parse_args()
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv, variants=["preset", "kind_disjoint"], n_jobs=1)
 
     results, lines = {}, []
     for name in args.variants:
-        result, seconds, n_groups = run_variant(name, args.seed, args.n_jobs)
+        result, seconds, n_groups = run_variant(name, args.seed, args.n_jobs, **tiny_presses("everyday", args.smoke))
         results[name] = result
         lines.append(f"{name}: {n_groups} groups, {len(result.target)} presses, {seconds:.0f} s")
         print(lines[-1], file=sys.stderr, flush=True)

@@ -30,7 +30,7 @@ on real presses would do.
     python studies/scripts/sim_pretraining.py [--source-seeds 11 12 ... 19] [--target-seed 10]
         [--test-seeds 0 1 2 3 4] [--variants preset kinds_shared_calibrated]
         [--fine-tune 3e-4:30 1e-3:30 3e-3:100] [--net-seeds 0 1]
-        [--data EXAMPLE_DATA [--roi]] [--cache DIR] [--n-jobs 2] [--out FILE]
+        [--data EXAMPLE_DATA [--roi]] [--cache DIR] [--n-jobs 2] [--out FILE] [--smoke]
 
 The per-press steps run once per simulated set (their rows kept in
 ``--cache``, shared with ``training_objects.py``). Times and the
@@ -47,16 +47,15 @@ import warnings
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from _estimate_modulus import GEL_ROI
+from _press_rows import split_per_press
 from _sim_variants import VARIANTS, variant_params
-from joblib import Parallel, delayed, effective_n_jobs
 from sim_to_real import named_pipeline
-from training_objects import add_run_arguments, margin_cell, scores, simulated_rows, wedge_rows
+from training_objects import add_run_arguments, margin_cell, scores, simulated_rows, wedge_rows, with_settings
 
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import report
-
-# private: the per-press prefix of a pipeline, whose rows are computed once per set and cached
-from sklearn_hardness.model_selection._per_press import split_per_press
+from harness.smoke import parse_args, tiny_presses
+from joblib import Parallel, delayed, effective_n_jobs
 
 PIPELINES = ("peak_change", "contact_profile", "convlstm_intensity")
 
@@ -78,12 +77,12 @@ def fine_tune_label(setting):
     return f"pretrained, fine-tuned (lr {lr:g}, {epochs} epochs)"
 
 
-def pretrain(net_seed, train, threads):
-    """The ConvLSTM's rest (after frame selection) fitted on the pooled source presses."""
+def pretrain(net_seed, train, threads, settings=()):
+    """The ConvLSTM's rest (after frame selection) fitted on the pooled source presses (``settings``: its own)."""
     import torch
 
     torch.set_num_threads(threads)
-    _, rest = split_per_press(named_pipeline("convlstm_intensity", net_seed))
+    rest = with_settings(split_per_press(named_pipeline("convlstm_intensity", net_seed))[1], dict(settings))
     reset_peak()
     t0 = time.perf_counter()
     with warnings.catch_warnings():
@@ -92,11 +91,11 @@ def pretrain(net_seed, train, threads):
     return net_seed, rest, time.perf_counter() - t0, peak_rss_mb()
 
 
-def fit_and_score(variant, model, name, net_seed, start, setting, train, tests, real, hardness, threads):
+def fit_and_score(variant, model, name, net_seed, start, setting, train, tests, real, hardness, threads, settings=()):
     """Fit ``name``'s rest on ``train`` (from ``start``, a pretrained rest, when given) and score it.
 
-    ``setting``: None trains from scratch (``start`` None) or scores ``start`` as it is; ``(lr, epochs)``
-    continues training a copy of ``start`` with that learning rate and number of epochs.
+    ``setting``: None trains from scratch (``start`` None; ``settings``: the rest's own) or scores ``start`` as
+    it is; ``(lr, epochs)`` continues training a copy of ``start`` with that learning rate and number of epochs.
     """
     import torch
 
@@ -106,7 +105,7 @@ def fit_and_score(variant, model, name, net_seed, start, setting, train, tests, 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         if start is None:
-            _, est = split_per_press(named_pipeline(name, net_seed))
+            est = with_settings(split_per_press(named_pipeline(name, net_seed))[1], dict(settings))
             est.fit(*train)
         elif setting is None:
             est = start
@@ -131,14 +130,18 @@ def main(argv=None):
                     metavar="LR:EPOCHS", help="fine-tuning settings (the ConvLSTM trains at lr 3e-3 for 100 epochs)")
     ap.add_argument("--net-seeds", type=int, nargs="+", default=[0, 1])
     add_run_arguments(ap)
-    args = ap.parse_args(argv)
+    # --smoke: one tiny set each to pretrain on, to fine-tune on and to test; the nets one epoch
+    args = parse_args(ap, argv, source_seeds=[11], test_seeds=[0], variants=["preset"], fine_tune=[(1e-3, 1)],
+                      net_seeds=[0], n_jobs=1)
+    sim = tiny_presses("everyday", args.smoke)
+    settings = {"clf__max_epochs": 1} if args.smoke else {}
     if {args.target_seed, *args.test_seeds} & set(args.source_seeds) or args.target_seed in args.test_seeds:
         ap.error("the source, target and test seeds must be distinct")
     t0 = time.perf_counter()
     prefixes = {name: split_per_press(named_pipeline(name, 0))[0] for name in PIPELINES}
-    source = simulated_rows(args.source_seeds, prefixes, {}, args.n_jobs, args.cache)
-    targets = {v: simulated_rows([args.target_seed, *args.test_seeds], prefixes, variant_params(v), args.n_jobs,
-                                 args.cache) for v in args.variants}
+    source = simulated_rows(args.source_seeds, prefixes, sim, args.n_jobs, args.cache)
+    targets = {v: simulated_rows([args.target_seed, *args.test_seeds], prefixes, dict(sim, **variant_params(v)),
+                                 args.n_jobs, args.cache) for v in args.variants}
     hardness = source[args.source_seeds[0]][1]
     real = {}
     if args.data:
@@ -152,7 +155,7 @@ def main(argv=None):
              np.concatenate([source[s][0] for s in args.source_seeds]))
     pretrained, pretrain_s, rss = {}, [], []
     for net_seed, rest, seconds, peak in Parallel(n_jobs=args.n_jobs)(
-            delayed(pretrain)(s, train, threads) for s in args.net_seeds):
+            delayed(pretrain)(s, train, threads, settings) for s in args.net_seeds):
         print(f"pretrained seed {net_seed} on {len(train[1])} presses: {seconds:.0f} s", file=sys.stderr, flush=True)
         pretrained[net_seed] = rest
         pretrain_s.append(seconds)
@@ -176,7 +179,7 @@ def main(argv=None):
                 jobs.append((v, fine_tune_label(setting), c, s, pretrained[s], setting, on[c], tests[c], views[c]))
     by, seconds_by = {}, {}
     for v, model, net_seed, accs, pairs, seconds, peak in Parallel(n_jobs=args.n_jobs, return_as="generator_unordered")(
-            delayed(fit_and_score)(*job, hardness, threads) for job in jobs):
+            delayed(fit_and_score)(*job, hardness, threads, settings) for job in jobs):
         print(f"{v}: {model} seed {net_seed}: balanced accuracy per test set {', '.join(f'{a:.3f}' for a in accs)}; "
               f"Wedge pairs {pairs}; {seconds:.0f} s", file=sys.stderr, flush=True)
         by.setdefault((v, model), []).append((net_seed, accs, pairs))

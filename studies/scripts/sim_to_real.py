@@ -16,7 +16,7 @@ video under the default ``ContactFrameSelector``.
     python studies/scripts/sim_to_real.py --data EXAMPLE_DATA
         [--pipelines peak_change contact_profile contact_profile_3 contact_profile_nn] [--roi] [--seed 0]
         [--sim-seeds 0] [--each-seed] [--cache DIR] [--variant NAME] [--param NAME=VALUE ...]
-        [--feature-subsets] [--out FILE]
+        [--feature-subsets] [--out FILE] [--smoke]
 
 The simulated videos are kept every 2nd pixel (120x160) in memory, the real
 ones cropped (``--roi``: to the gel, ``GEL_ROI``) and kept every 2nd pixel
@@ -49,6 +49,7 @@ from sim_vs_real_stats import parse_param
 
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import write_output
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses
 
 
 def simulated(seed, stride=2, cache=None, **params):
@@ -143,7 +144,7 @@ def seed_row(label, rights, total, last):
     return f"| {label} | " + " | ".join(f"{r}/{total}" for r in rights) + f" | {np.mean(rights):.1f} | {last} |"
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data", required=True, help="EstimateModulus example_data folder")
     parser.add_argument("--pipelines", nargs="+",
@@ -162,8 +163,9 @@ def main():
     parser.add_argument("--variant", default=None, choices=list(VARIANTS), help="a named variant (_sim_variants.py)")
     parser.add_argument("--param", action="append", default=[], type=parse_param,
                         help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
-    args = parser.parse_args()
-    params = variant_params(args.variant, args.param)
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv)
+    params = dict(tiny_presses("everyday", args.smoke), **variant_params(args.variant, args.param))
 
     from sklearn_hardness.preprocessing import ContactFrameSelector
 

@@ -21,7 +21,7 @@ GelSight Mini presses, which this repository never holds).
 
     python studies/scripts/sim_vs_real_stats.py [--data EXAMPLE_DATA] [--roi] [--seed 0]
         [--n-objects 42] [--variant NAME] [--param NAME=VALUE ...] [--by-kind]
-        [--manifest MANIFEST] [--no-sim] [--features] [--out FILE]
+        [--manifest MANIFEST] [--no-sim] [--features] [--out FILE] [--smoke]
 
 Prints markdown tables, time and peak memory. ``--param`` overrides a preset
 parameter (e.g. ``--param ambient_leak=0.5``) to try a calibration;
@@ -51,6 +51,7 @@ from _sim_variants import VARIANTS, variant_params
 
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import write_output
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses
 
 #: Held-out real GelSight Mini presses (real_presses_stats.md), median per rank.
 REAL_MINI = {
@@ -211,6 +212,17 @@ def manifest_rank(data):
     return None
 
 
+def unreadable_videos(videos):
+    """``"video i: why"`` for every video of ``videos`` that cannot be read (each read in full)."""
+    found = []
+    for i in range(len(videos)):
+        try:
+            videos[i]
+        except (ValueError, TypeError, OSError) as exc:  # what read_video raises on a file it cannot read
+            found.append(f"video {i}: {exc}")
+    return found
+
+
 def parse_param(text):
     """``NAME=VALUE`` or ``NAME=LO,HI`` -> (name, float or tuple); ``true`` / ``false`` -> bool."""
     name, value = text.split("=", 1)
@@ -220,7 +232,7 @@ def parse_param(text):
     return name, (values[0] if len(values) == 1 else tuple(values))
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data", default=None, help="EstimateModulus example_data folder")
     parser.add_argument("--roi", action="store_true", help="crop the real grasps to the gel (GEL_ROI)")
@@ -238,7 +250,8 @@ def main():
                         help="also: the features of contact_profile_3 and the changed area per group, and their "
                              "direction with hardness")
     parser.add_argument("--out", default=None, help="also write the printed text there, after a provenance line")
-    args = parser.parse_args()
+    add_smoke_argument(parser)
+    args = parse_args(parser, argv)
     out = []
 
     def say(text=""):
@@ -250,7 +263,7 @@ def main():
 
         reset_peak()
         t0 = time.perf_counter()
-        extra = variant_params(args.variant, args.param)
+        extra = dict(tiny_presses("everyday", args.smoke), **variant_params(args.variant, args.param))
         if args.n_objects:
             extra["n_objects"] = args.n_objects
         data = make_presses("everyday", random_state=args.seed, **extra)
@@ -284,20 +297,17 @@ def main():
     if args.manifest:
         from sklearn_hardness.datasets import load_press_videos
 
-        # private: load_press_videos' own report of every unreadable video in one error
-        from sklearn_hardness.utils._unreadable import UnreadableVideosError, raise_unreadable
-
         reset_peak()
         t0 = time.perf_counter()
         data = load_press_videos(args.manifest)
         names = np.asarray(data.target_names)[np.asarray(data.target)]
         try:
             rows = collect(data.videos)
-        except (ValueError, TypeError, OSError) as exc:
-            try:  # every video that cannot be read, in one error
-                raise_unreadable(data.videos, exc)
-            except UnreadableVideosError as unreadable:
-                raise SystemExit(f"error: {unreadable}") from None
+        except (ValueError, TypeError, OSError):
+            unreadable = unreadable_videos(data.videos)
+            if unreadable:  # every video that cannot be read, in one error
+                raise SystemExit(f"error: {len(unreadable)} of {len(data.videos)} videos cannot be read:\n  "
+                                 + "\n  ".join(unreadable)) from None
             raise
         say(table(names, rows, f"Recordings of {args.manifest} ({len(rows)} presses), per label"))
         if args.features:

@@ -23,7 +23,7 @@ within-family pairs ordered right by expected hardness rank, as
     python studies/scripts/training_objects.py [--pipelines peak_change contact_profile convlstm_intensity]
         [--test-seeds 0 1 2 3 4] [--pool-seeds 10 11 ... 18] [--sizes 1 2 4 9] [--net-seeds 0]
         [--set NAME=VALUE ...] [--param NAME=VALUE ...] [--data EXAMPLE_DATA [--roi]]
-        [--cache DIR] [--n-jobs 2] [--out FILE]
+        [--cache DIR] [--n-jobs 2] [--out FILE] [--smoke]
 
 The per-press steps of each pipeline (frame selection, features, the peak
 change) run once per simulated set, their rows kept in ``--cache`` when
@@ -34,6 +34,7 @@ parameter. Time per fit and peak memory are printed beside the figures.
 """
 
 import argparse
+import ast
 import os
 import sys
 import time
@@ -43,7 +44,7 @@ from pathlib import Path
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from _estimate_modulus import GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
-from joblib import Parallel, delayed, effective_n_jobs
+from _press_rows import prefix_key, split_per_press, transform_per_press
 from scipy import stats
 from sim_to_real import named_pipeline
 from sim_vs_real_stats import parse_param
@@ -51,18 +52,27 @@ from sklearn.metrics import balanced_accuracy_score
 
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import report
-
-# private: --set parsed as the command line parses it; the per-press prefixes, run once per set and cached
-from sklearn_hardness._cli._common import _parse_set, _UsageError
-from sklearn_hardness.model_selection._per_press import prefix_key, split_per_press, transform_per_press
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses
+from joblib import Parallel, delayed, effective_n_jobs
 from sklearn_hardness.models import pipeline_info
+
+
+def parse_set(item):
+    """``NAME=VALUE`` -> (name, value) as the command line's ``--set`` reads it: a Python literal, else a string."""
+    key, sep, value = item.partition("=")
+    if not sep or not key:
+        raise argparse.ArgumentTypeError(f"--set expects KEY=VALUE, got {item!r}")
+    try:
+        return key, ast.literal_eval(value)
+    except (ValueError, SyntaxError):
+        return key, value  # a plain string
 
 
 def press_rows(prefix, videos, n_jobs, path=None):
     """The rows of every press through ``prefix`` (per-press steps), read from or written to ``path``."""
     if path is not None and path.exists():
         return np.load(path)
-    rows, _, _ = transform_per_press(prefix, videos, n_jobs=n_jobs)
+    rows = transform_per_press(prefix, videos, n_jobs=n_jobs)
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         np.save(path, rows)
@@ -109,13 +119,18 @@ def wedge_rows(data, roi, prefixes, n_jobs, cache):
             for name, prefix in prefixes.items()}
 
 
+def with_settings(est, settings):
+    """``est`` with those of ``settings`` (``{name: value}``) that are its parameters set; the others left out."""
+    return est.set_params(**{k: v for k, v in settings.items() if k in est.get_params()})
+
+
 def fit_and_score(name, net_seed, size, train, tests, real, hardness, settings, threads):
     """Fit ``name``'s rest on ``train`` rows; balanced accuracy per test set and Wedge pairs right per view."""
     import torch
 
     torch.set_num_threads(threads)
     _, rest = split_per_press(named_pipeline(name, net_seed))
-    rest.set_params(**{k: v for k, v in settings.items() if k in rest.get_params()})
+    with_settings(rest, settings)
     reset_peak()
     t0 = time.perf_counter()
     with warnings.catch_warnings():
@@ -142,6 +157,7 @@ def add_run_arguments(ap):
     ap.add_argument("--cache", default=None, help="folder to keep each simulated set's per-press rows in")
     ap.add_argument("--n-jobs", type=int, default=2)
     ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
+    add_smoke_argument(ap)
 
 
 def margin_cell(diffs):
@@ -161,22 +177,21 @@ def main(argv=None):
     ap.add_argument("--sizes", type=int, nargs="+", default=[1, 2, 4, 9],
                     help="training sets: the first k of --pool-seeds pooled, for each k")
     ap.add_argument("--net-seeds", type=int, nargs="+", default=[0])
-    ap.add_argument("--set", dest="settings", action="append", default=[],
+    ap.add_argument("--set", dest="settings", type=parse_set, action="append", default=[],
                     help="a parameter of every pipeline that has it, NAME=VALUE as the command line's --set "
                          "(e.g. clf__batch_size=32)")
     ap.add_argument("--param", type=parse_param, action="append", default=[],
                     help="override an everyday parameter, NAME=VALUE or NAME=LO,HI")
     add_run_arguments(ap)
-    args = ap.parse_args(argv)
+    # --smoke: two tiny sets to train on, one to test, the nets one epoch
+    args = parse_args(ap, argv, test_seeds=[0], pool_seeds=[10, 11], sizes=[1, 2], n_jobs=1,
+                      settings=[("clf__max_epochs", 1)])
     if "peak_change" not in args.pipelines:
         args.pipelines = ["peak_change", *args.pipelines]  # the margins are over it
     if max(args.sizes) > len(args.pool_seeds) or set(args.pool_seeds) & set(args.test_seeds):
         ap.error("--sizes may not exceed the number of --pool-seeds, and no pool seed may be a test seed")
-    try:
-        settings = _parse_set(args.settings)  # the command line's --set: Python literals, else strings
-    except _UsageError as exc:
-        ap.error(str(exc))
-    params = dict(args.param)
+    settings = dict(args.settings)  # the command line's --set: Python literals, else strings
+    params = dict(tiny_presses("everyday", args.smoke), **dict(args.param))
     t0 = time.perf_counter()
     prefixes = {name: split_per_press(named_pipeline(name, 0))[0] for name in args.pipelines}
     pool = args.pool_seeds[:max(args.sizes)]

@@ -38,7 +38,7 @@ presses by hand, whose position only motion capture would record; the default
 input is also scored on its robot presses alone.
 
     python studies/scripts/wedge_force.py --data EXAMPLE_DATA [--onset 0.05 0.1 0.2]
-        [--sim-seeds 0 1 2 3 4] [--out FILE]
+        [--sim-seeds 0 1 2 3 4] [--out FILE] [--smoke]
 
 Prints the table per object, the pairs right per onset (the closing alone at
 the table's onset), the pipeline trained on the simulator, and the time;
@@ -54,6 +54,7 @@ import numpy as np
 from _estimate_modulus import FAMILIES, expected_rank, family_pairs, load_grasp_forces
 
 from harness.provenance import report
+from harness.smoke import add_smoke_argument, parse_args, tiny_presses
 
 
 def grasp_figures(force, width, onset):
@@ -80,17 +81,17 @@ SIM_INPUTS = {
 RANK = {"soft": 1.0, "moderate": 2.0, "hard": 3.0}
 
 
-def simulated_force_position(seed):
+def simulated_force_position(seed, **sim):
     """(X, target, object_id, target_names, hand) of ``make_presses("everyday")``: force and sensor position."""
     from sklearn_hardness.datasets import make_presses
 
-    data = make_presses("everyday", random_state=seed)  # videos are lazy: never rendered here
+    data = make_presses("everyday", random_state=seed, **sim)  # videos are lazy: never rendered here
     X = [np.column_stack([f, z]) for f, z in zip(data.force, data.position)]
     return (X, np.asarray(data.target), np.asarray(data.object_id), np.asarray(data.target_names),
             np.asarray(data.press_params["hand"], dtype=bool))
 
 
-def sim_trained(grasps, names, seeds):
+def sim_trained(grasps, names, seeds, **sim):
     """Markdown lines: the pipeline trained on each simulated seed, scored there and on the grasps."""
     from sklearn.model_selection import GroupKFold, cross_val_score
 
@@ -105,7 +106,7 @@ def sim_trained(grasps, names, seeds):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)  # the preset's cut-short videos: NaN, imputed
         for seed in seeds:
-            X, y, groups, target_names, hand = simulated_force_position(seed)
+            X, y, groups, target_names, hand = simulated_force_position(seed, **sim)
             hardness = np.array([RANK[n] for n in target_names])
             robot = np.flatnonzero(~hand)  # a hand's position is recorded only by motion capture
             robot_acc.append(cross_val_score(make_loading_compliance_pipeline(), [X[i] for i in robot], y[robot],
@@ -161,7 +162,8 @@ def main(argv=None):
     ap.add_argument("--sim-seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4],
                     help="seeds of the simulated presses the pipeline is trained on")
     ap.add_argument("--out", default=None, help="write the text here, with a provenance line")
-    args = ap.parse_args(argv)
+    add_smoke_argument(ap)
+    args = parse_args(ap, argv, sim_seeds=[0])
     t0 = time.perf_counter()
     grasps = load_grasp_forces(args.data)
     names = np.array([g[0] for g in grasps])
@@ -197,7 +199,7 @@ def main(argv=None):
     base = figures[main_onset]
     lines += [pairs_row("peak force alone", base[:, 2]),
               pairs_row(f"closing at peak alone ({main_onset:g}; less closing: harder)", -base[:, 3])]
-    lines += sim_trained(grasps, names, args.sim_seeds)
+    lines += sim_trained(grasps, names, args.sim_seeds, **tiny_presses("everyday", args.smoke))
     lines += ["", f"{time.perf_counter() - t0:.2f} s"]
     report("\n".join(lines), args.out)
 
