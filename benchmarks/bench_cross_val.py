@@ -11,18 +11,21 @@ and written with a manifest as ``sklearn-hardness simulate`` writes them, then
 read back lazily by :func:`~sklearn_hardness.datasets.load_press_videos`: a
 fold decodes the files it uses, as on real recordings. Writing them is not timed.
 
-Timed on the same ``GroupKFold(5)`` folds (grouped by object), each printed
-with its peak resident memory and balanced accuracy:
+``--param KEY=VALUE`` passes a builder parameter (``--param with_profile=True``:
+``contact_geometry`` as a FeatureUnion of geometry and profile features). Timed
+on the same ``GroupKFold(5)`` folds (grouped by object), each printed with its
+peak resident memory and balanced accuracy:
 
 - ``cross_val_score`` of ``make_named_pipeline(name)``;
 - the same with ``memory=`` a fresh folder (cold), then again (warm);
 - ``evaluate_pipelines([name], ..., cv=GroupKFold(5), baseline=None)``.
 
-    python benchmarks/bench_cross_val.py [--pipeline contact_geometry] [--n-per-class 6] [--image-size 240 320]
-        [--smoke]
+    python benchmarks/bench_cross_val.py [--pipeline contact_geometry] [--param with_profile=True]
+        [--n-per-class 6] [--image-size 240 320] [--smoke]
 """
 
 import argparse
+import ast
 import os
 import sys
 import tempfile
@@ -60,10 +63,13 @@ def timed(run):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--pipeline", default="contact_geometry", help="a name of make_named_pipeline")
+    ap.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
+                    help="a parameter of the pipeline's builder (a Python literal), e.g. with_profile=True")
     ap.add_argument("--n-per-class", type=int, default=6, help="presses per object (42 objects)")
     ap.add_argument("--image-size", type=int, nargs=2, default=(240, 320), metavar=("H", "W"))
     add_smoke_argument(ap)
     args = parse_args(ap, argv, n_per_class=1, image_size=(48, 64))
+    params = {key: ast.literal_eval(value) for key, value in (item.split("=", 1) for item in args.param)}
 
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
@@ -72,11 +78,12 @@ def main(argv=None):
         X, y, groups, cv = data.videos, data.target, data.object_id, GroupKFold(5)
 
         def cross_val(memory=None):
-            pipe = make_named_pipeline(args.pipeline, memory=memory)
+            pipe = make_named_pipeline(args.pipeline, memory=memory, **params)
             return float(np.mean(cross_val_score(pipe, X, y, groups=groups, cv=cv, scoring="balanced_accuracy")))
 
         def evaluate():
-            result = evaluate_pipelines([args.pipeline], X, y, groups=groups, cv=cv, baseline=None)
+            result = evaluate_pipelines({args.pipeline: make_named_pipeline(args.pipeline, **params)}, X, y,
+                                        groups=groups, cv=cv, baseline=None)
             return float(result.summary["balanced_accuracy"][0])
 
         cache = os.path.join(tmp, "cache")
@@ -88,7 +95,8 @@ def main(argv=None):
                      ("evaluate_pipelines", timed(evaluate))]
 
     h, w = args.image_size
-    print(f"{args.pipeline}, GroupKFold(5) on {len(y)} simulated everyday presses ({h}x{w}, mp4v, read from "
+    name = args.pipeline + "".join(f" {k}={v!r}" for k, v in params.items())
+    print(f"{name}, GroupKFold(5) on {len(y)} simulated everyday presses ({h}x{w}, mp4v, read from "
           f"files; writing them {write_s:.0f} s, not timed)")
     print(f"{'case':<32}{'seconds':>9}{'peak MB':>9}  balanced accuracy")
     for name, (seconds, peak, score) in cases:
