@@ -31,8 +31,7 @@ what ``quick=True`` changes; :data:`CONFIG_KEYS`, one line on each key of a
 configuration. The functions import their modules when first asked for.
 """
 
-import importlib
-
+from ..utils._lazy_names import lazy_names
 from ._names import CONFIG_KEYS as CONFIG_KEYS  # the constants: documented above, not functions of __all__
 from ._names import EXPERIMENT_MODELS as EXPERIMENT_MODELS
 from ._names import QUICK_OVERRIDES as QUICK_OVERRIDES
@@ -64,13 +63,4 @@ _LAZY = {
 __all__ = list(_LAZY)
 
 
-def __getattr__(name):
-    if name in _LAZY:
-        value = getattr(importlib.import_module(_LAZY[name], __name__), name)
-        globals()[name] = value  # once: later look-ups find it directly
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)

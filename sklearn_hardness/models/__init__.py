@@ -35,8 +35,7 @@ that ``import sklearn_hardness.models`` and the modules that build pipelines
 by name stay light.
 """
 
-import importlib
-
+from ..utils._lazy_names import lazy_names
 from ._registry import make_named_pipeline, pipeline_info, pipeline_names
 
 #: Each public name that is imported when first asked for, and its module.
@@ -67,13 +66,4 @@ _LAZY = {
 __all__ = ["pipeline_names", "pipeline_info", "make_named_pipeline", *_LAZY]
 
 
-def __getattr__(name):
-    if name in _LAZY:
-        value = getattr(importlib.import_module(_LAZY[name], __name__), name)
-        globals()[name] = value  # once: later look-ups find it directly
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)

@@ -13,6 +13,12 @@
   estimators that take press videos or selected frames.
 """
 
-from ._per_press import PerPressTransformerMixin, clear_cache, default_cache_dir
+from ._lazy_names import lazy_names
 
-__all__ = ["PerPressTransformerMixin", "clear_cache", "default_cache_dir"]
+#: Each public name and its module, imported when first asked for: the helpers the other subpackages import
+#: from utils (this light one among them) do not import scikit-learn through this file.
+_LAZY = {"PerPressTransformerMixin": "._per_press", "clear_cache": "._per_press", "default_cache_dir": "._per_press"}
+
+__all__ = list(_LAZY)
+
+__getattr__, __dir__ = lazy_names(__name__, globals(), _LAZY)
