@@ -164,3 +164,25 @@ def test_stamp_adds_commit_and_machine_below_the_command_line_s_header(tmp_path)
     path.write_text("no header\n")
     with pytest.raises(ValueError, match="header line"):
         stamp(path)
+
+
+def test_notes_go_beside_an_output_and_a_superseded_output_comes_back_from_git(tmp_path):
+    from harness.provenance import add_note, restore
+
+    out = tmp_path / "run.txt"
+    out.write_text("# command: python s.py\n")
+    sidecar = add_note(out, "ran with --cache DIR", date="2026-01-01")
+    add_note(out, "a second note", date="2026-01-02")
+    assert out.read_text() == "# command: python s.py\n"  # the output itself is never edited
+    assert open(sidecar).read().splitlines() == ["# note (2026-01-01): ran with --cache DIR",
+                                                 "# note (2026-01-02): a second note"]
+    with pytest.raises(ValueError, match="one non-empty line"):
+        add_note(out, "two\nlines")
+    restored = tmp_path / "readme_at_head.md"
+    restore("HEAD:README.md", restored, date="2026-01-03")
+    committed = subprocess.run(["git", "-C", harness.ROOT, "show", "HEAD:README.md"], capture_output=True,
+                               check=True).stdout
+    assert restored.read_bytes() == committed
+    assert "restored verbatim from git: git show " in (tmp_path / "readme_at_head.md.provenance").read_text()
+    with pytest.raises(FileExistsError, match="new name"):
+        restore("HEAD:README.md", restored)
