@@ -14,6 +14,8 @@ only), and imports the package, never the other way round:
   (``python -m harness.readme_table``).
 - :mod:`harness.figures`: every figure README, ``studies/`` and the docs quote, found in
   the output its page names (``python -m harness.figures``).
+- :mod:`harness.timed`: a command's printed text with its wall and CPU time and peak
+  memory, as an output with its header (``python -m harness.timed OUT -- COMMAND``).
 
 Run it from the repository root (``python -m harness.<module>``). Scripts in
 ``studies/scripts`` and ``benchmarks`` reach it through their ``_harness.py``; the

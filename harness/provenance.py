@@ -95,13 +95,16 @@ def script_command(argv):
     return shlex.join(["python", script.replace(os.sep, "/"), *args])
 
 
-def header(argv=None, *, machine=None, commit=None, date=None):
+def header(argv=None, *, machine=None, commit=None, date=None, command=None):
     """The three header lines of an output made by ``argv`` (default ``sys.argv``).
 
     Parameters
     ----------
     argv : list of str or None, default=None
         The script's command line.
+    command : str or None, default=None
+        The command as a reader types it, in place of ``argv``'s (for a command
+        that is not a script of this repository; data folders named by role).
     machine : dict or None, default=None
         :func:`~harness.machine.machine_reference` (measured when None).
     commit : str or None, default=None
@@ -124,10 +127,10 @@ def header(argv=None, *, machine=None, commit=None, date=None):
     # commit: f00, 2026-01-01T00:00Z
     # machine: Xeon, 2 cores, matmul 80 GFLOP/s (one thread), torch 2.1, numpy 2.0, Python 3.11.7, BLAS None
     """
-    argv = sys.argv if argv is None else argv
+    command = script_command(sys.argv if argv is None else argv) if command is None else command
     commit = (git_commit() or "unknown") if commit is None else commit
     date = date or datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%MZ")
-    return f"# command: {script_command(argv)}\n# commit: {commit}, {date}\n{_machine_line(machine)}"
+    return f"# command: {command}\n# commit: {commit}, {date}\n{_machine_line(machine)}"
 
 
 def write_output(path, text):

@@ -186,3 +186,21 @@ def test_notes_go_beside_an_output_and_a_superseded_output_comes_back_from_git(t
     assert "restored verbatim from git: git show " in (tmp_path / "readme_at_head.md.provenance").read_text()
     with pytest.raises(FileExistsError, match="new name"):
         restore("HEAD:README.md", restored)
+
+
+def test_timed_keeps_what_a_command_printed_with_its_time_under_a_header(tmp_path, capsys):
+    from harness.figures import missing_header
+    from harness.timed import main as timed
+
+    out = tmp_path / "timed.txt"
+    timed([str(out), "--as", "python work.py --data DATA", "--", sys.executable, "-c",
+           "import time; t = time.process_time(); print('score 0.59')\nwhile time.process_time() - t < 0.3: pass"])
+    lines = out.read_text().splitlines()
+    assert lines[0] == "# command: python work.py --data DATA" and lines[1].startswith("# commit: ")
+    assert lines[3] == "score 0.59"
+    cpu = float(re.search(r"CPU ([\d.]+) s", lines[4]).group(1))
+    assert lines[4].startswith("wall ") and cpu >= 0.3  # the child's CPU time, not the parent's
+    assert missing_header(str(out)) == []
+    with pytest.raises(SystemExit, match="failed"):
+        timed([str(tmp_path / "no.txt"), "--", sys.executable, "-c", "raise SystemExit(3)"])
+    assert not (tmp_path / "no.txt").exists()
