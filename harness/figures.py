@@ -137,7 +137,8 @@ def _output_names(text, outputs):
 
 
 def _markers(text, rst=False):
-    found = [(kind, body.strip()) for kind, body in _MARKER.findall(text)]
+    code = r"``[^`]*``" if rst else r"`[^`]*`"
+    found = [(kind, body.strip()) for kind, body in _MARKER.findall(re.sub(code, " ", text))]  # not in code
     if rst:
         found += [(m.group(1), m.group(2).strip()) for m in map(_RST_MARKER.match, text.splitlines()) if m]
     return found
