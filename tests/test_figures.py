@@ -10,7 +10,12 @@ import os
 
 import pytest
 
-from harness.figures import OUTPUTS, check_page, find_figures, missing_header, pages, read_units
+from harness.figures import OUTPUTS, check_page, check_pages, find_figures, missing_header, pages, read_units
+
+
+def test_every_figure_of_readme_studies_and_docs_is_found_in_its_outputs():
+    problems = check_pages()
+    assert not problems, f"{len(problems)} figure(s) not found:\n" + "\n".join(problems)
 
 
 def test_the_pages_checked_are_readme_the_studies_and_the_docs():
