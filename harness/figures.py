@@ -310,10 +310,6 @@ def read_units(text, rst=False, outputs=OUTPUTS):
     return units
 
 
-def _split(sign, digits, percent):
-    return (sign.replace("\u2212", "-"), digits, percent)
-
-
 def find_figures(text):
     """The figures of a unit's text, in reading order.
 
@@ -416,8 +412,6 @@ def _found(figure, parsed):
     numbers = figure.numbers
     for lines in parsed:
         for line in lines:
-            if figure.pairs:
-                continue
             if not figure.interval:
                 if any(_same(numbers[0], out, loose_sign=True) for out in line):
                     return True
