@@ -1,6 +1,8 @@
 """The header of a study's output: the command, the commit, the date and the machine.
 
     python -m harness.provenance OUT/table.txt ...   # stamp command-line outputs for the studies
+    python -m harness.provenance --note "ran with --cache DIR" studies/outputs/x.txt   # a note beside it
+    python -m harness.provenance --restore COMMIT:PATH studies/outputs/NAME   # a superseded output back
 
 A figure is read against what made it: the command (a data folder named by its
 role, ``--data EXAMPLE_DATA``, never by a path of one machine), the commit it ran
@@ -21,7 +23,8 @@ import sys
 from . import ROOT
 from .machine import describe, machine_reference
 
-__all__ = ["git_commit", "script_command", "header", "write_output", "report", "stamp", "provenance_record"]
+__all__ = ["git_commit", "script_command", "header", "write_output", "report", "stamp", "provenance_record",
+           "SIDECAR", "add_note", "restore"]
 
 #: Options whose value is where output goes, not what was computed.
 _WHERE = {"--out", "--cache"}
@@ -96,13 +99,16 @@ def script_command(argv):
     return shlex.join(["python", script.replace(os.sep, "/"), *args])
 
 
-def header(argv=None, *, machine=None, commit=None, date=None):
+def header(argv=None, *, machine=None, commit=None, date=None, command=None):
     """The three header lines of an output made by ``argv`` (default ``sys.argv``).
 
     Parameters
     ----------
     argv : list of str or None, default=None
         The script's command line.
+    command : str or None, default=None
+        The command as a reader types it, in place of ``argv``'s (for a command
+        that is not a script of this repository; data folders named by role).
     machine : dict or None, default=None
         :func:`~harness.machine.machine_reference` (measured when None).
     commit : str or None, default=None
@@ -125,10 +131,10 @@ def header(argv=None, *, machine=None, commit=None, date=None):
     # commit: f00, 2026-01-01T00:00Z
     # machine: Xeon, 2 cores, matmul 80 GFLOP/s (one thread), torch 2.1, numpy 2.0, Python 3.11.7, BLAS None
     """
-    argv = sys.argv if argv is None else argv
+    command = script_command(sys.argv if argv is None else argv) if command is None else command
     commit = (git_commit() or "unknown") if commit is None else commit
     date = date or datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%MZ")
-    return f"# command: {script_command(argv)}\n# commit: {commit}, {date}\n{_machine_line(machine)}"
+    return f"# command: {command}\n# commit: {commit}, {date}\n{_machine_line(machine)}"
 
 
 def write_output(path, text):
@@ -196,13 +202,95 @@ def stamp(path, *, machine=None, commit=None):
     return True
 
 
+#: The suffix of the note kept beside an output: what its header does not say (an output is never edited).
+SIDECAR = ".provenance"
+
+
+def add_note(path, note, *, date=None):
+    """Add a dated line ``# note: ...`` to the sidecar ``path + ".provenance"``, never to the output itself.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The output the note is about.
+    note : str
+        One line: what the output's header leaves out (an option it ran with,
+        the command of a file that cannot hold a header, a later edit of its plan).
+    date : str or None, default=None
+        The note's date (today, UTC, when None).
+
+    Returns
+    -------
+    sidecar : str
+        The sidecar's path.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from harness.provenance import add_note
+    >>> out = os.path.join(tempfile.mkdtemp(), "x.txt")
+    >>> print(open(add_note(out, "ran with --cache DIR", date="2026-01-01")).read(), end="")
+    # note (2026-01-01): ran with --cache DIR
+    """
+    if not isinstance(note, str) or not note.strip() or "\n" in note:
+        raise ValueError(f"a note is one non-empty line, got {note!r}.")
+    date = date or datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
+    sidecar = os.fspath(path) + SIDECAR
+    with open(sidecar, "a") as f:
+        f.write(f"# note ({date}): {note.strip()}\n")
+    return sidecar
+
+
+def restore(spec, path, *, date=None):
+    """Write the committed version ``spec`` (``COMMIT:PATH``) of an output to ``path``, byte for byte.
+
+    An output superseded by a rerun stays in git; a page that quotes it gets it
+    back under a new name, with its own header, and a sidecar note saying where
+    it came from.
+
+    Parameters
+    ----------
+    spec : str
+        ``COMMIT:PATH`` as ``git show`` takes it.
+    path : str or path-like
+        Where to write it (a new name in ``studies/outputs``).
+    date : str or None, default=None
+        The note's date (today, UTC, when None).
+    """
+    commit, sep, source = spec.partition(":")
+    if not sep or not commit or not source:
+        raise ValueError(f"spec is COMMIT:PATH, got {spec!r}.")
+    if os.path.exists(path):
+        raise FileExistsError(f"{path} exists; a restored output takes a new name.")
+    blob = subprocess.run(["git", "-C", ROOT, "show", spec], capture_output=True, check=True, timeout=30).stdout
+    full = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short=10", commit], capture_output=True, text=True,
+                          check=True, timeout=10).stdout.strip()
+    with open(path, "wb") as f:
+        f.write(blob)
+    add_note(path, f"restored verbatim from git: git show {full}:{source}", date=date)
+
+
 def main(argv=None):
     import argparse
 
-    ap = argparse.ArgumentParser(description="Add the commit and the machine to outputs of sklearn-hardness.")
-    ap.add_argument("paths", nargs="+", help="files headed by the command line's provenance line")
+    ap = argparse.ArgumentParser(description="Add the commit and the machine to outputs of sklearn-hardness; "
+                                             "keep notes beside outputs; restore superseded outputs from git.")
+    ap.add_argument("paths", nargs="+", help="files headed by the command line's provenance line (with --note "
+                                             "or --restore: the output the note is about, or the name to restore to)")
     ap.add_argument("--commit", help="the commit the run started at, where HEAD has moved since (default: HEAD)")
+    ap.add_argument("--note", help="write this line to each path's sidecar (PATH.provenance) instead of stamping")
+    ap.add_argument("--restore", metavar="COMMIT:PATH", help="write this committed file to the one path given")
     args = ap.parse_args(argv)
+    if args.restore:
+        if len(args.paths) != 1:
+            ap.error("--restore writes one path.")
+        restore(args.restore, args.paths[0])
+        print(f"restored: {args.paths[0]} ({args.restore})")
+        return
+    if args.note:
+        for path in args.paths:
+            print(f"noted: {add_note(path, args.note)}")
+        return
     machine = machine_reference()
     for path in args.paths:
         print(f"{'stamped' if stamp(path, machine=machine, commit=args.commit) else 'already stamped'}: {path}")

@@ -167,3 +167,43 @@ def test_stamp_adds_commit_and_machine_below_the_command_line_s_header(tmp_path)
     path.write_text("no header\n")
     with pytest.raises(ValueError, match="header line"):
         stamp(path)
+
+
+def test_notes_go_beside_an_output_and_a_superseded_output_comes_back_from_git(tmp_path):
+    from harness.provenance import add_note, restore
+
+    out = tmp_path / "run.txt"
+    out.write_text("# command: python s.py\n")
+    sidecar = add_note(out, "ran with --cache DIR", date="2026-01-01")
+    add_note(out, "a second note", date="2026-01-02")
+    assert out.read_text() == "# command: python s.py\n"  # the output itself is never edited
+    assert open(sidecar).read().splitlines() == ["# note (2026-01-01): ran with --cache DIR",
+                                                 "# note (2026-01-02): a second note"]
+    with pytest.raises(ValueError, match="one non-empty line"):
+        add_note(out, "two\nlines")
+    restored = tmp_path / "readme_at_head.md"
+    restore("HEAD:README.md", restored, date="2026-01-03")
+    committed = subprocess.run(["git", "-C", harness.ROOT, "show", "HEAD:README.md"], capture_output=True,
+                               check=True).stdout
+    assert restored.read_bytes() == committed
+    assert "restored verbatim from git: git show " in (tmp_path / "readme_at_head.md.provenance").read_text()
+    with pytest.raises(FileExistsError, match="new name"):
+        restore("HEAD:README.md", restored)
+
+
+def test_timed_keeps_what_a_command_printed_with_its_time_under_a_header(tmp_path, capsys):
+    from harness.figures import missing_header
+    from harness.timed import main as timed
+
+    out = tmp_path / "timed.txt"
+    timed([str(out), "--as", "python work.py --data DATA", "--", sys.executable, "-c",
+           "import time; t = time.process_time(); print('score 0.59')\nwhile time.process_time() - t < 0.3: pass"])
+    lines = out.read_text().splitlines()
+    assert lines[0] == "# command: python work.py --data DATA" and lines[1].startswith("# commit: ")
+    assert lines[3] == "score 0.59"
+    cpu = float(re.search(r"CPU ([\d.]+) s", lines[4]).group(1))
+    assert lines[4].startswith("wall ") and cpu >= 0.3  # the child's CPU time, not the parent's
+    assert missing_header(str(out)) == []
+    with pytest.raises(SystemExit, match="failed"):
+        timed([str(tmp_path / "no.txt"), "--", sys.executable, "-c", "raise SystemExit(3)"])
+    assert not (tmp_path / "no.txt").exists()

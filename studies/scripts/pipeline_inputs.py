@@ -11,8 +11,10 @@ presses for testing, several seeds. Each preset's frames are selected once
 initial weights. Prints test accuracy (mean and std over seeds), time for all
 seeds and peak memory side by side.
 
-    python studies/scripts/pipeline_inputs.py [--presets silicone5 shore9] [--seeds 5]
+    python studies/scripts/pipeline_inputs.py [--presets silicone5 shore9] [--seeds 5] [--out FILE]
     python studies/scripts/pipeline_inputs.py --smoke   # tiny sets, 2 training presses per object, one epoch
+
+``--out FILE`` also writes the printed text there after a provenance header.
 """
 
 import argparse
@@ -28,6 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _harness  # noqa: E402,F401 - puts the repository root on sys.path
 
 from harness.memory import peak_rss_mb, reset_peak  # noqa: E402
+from harness.provenance import write_output  # noqa: E402
 from harness.smoke import add_smoke_argument, parse_args, tiny_presses  # noqa: E402
 from sklearn_hardness.datasets import make_presses  # noqa: E402
 from sklearn_hardness.features import OpticalFlowFeatures  # noqa: E402
@@ -71,17 +74,24 @@ def main(argv=None):
     parser.add_argument("--presets", nargs="+", default=["silicone5", "shore9"])
     parser.add_argument("--seeds", type=int, default=5)
     parser.add_argument("--n-train", type=int, default=5, help="training presses per object")
+    parser.add_argument("--out", default=None, help="also write the printed text there, after a provenance header")
     add_smoke_argument(parser)
     args = parse_args(parser, argv, seeds=1, n_train=2)
+    printed = []
+
+    def say(line):
+        print(line, flush=True)
+        printed.append(line)
+
     for preset in args.presets:
         data = make_presses(preset, random_state=0, **tiny_presses(preset, args.smoke))
         y = np.asarray(data.target)
         t0 = time.perf_counter()
         variants = _variants(data.videos, 1 if args.smoke else None)
-        print(f"\n{preset}: {len(y)} presses of {len(np.unique(y))} objects, {args.n_train} training presses "
+        say(f"\n{preset}: {len(y)} presses of {len(np.unique(y))} objects, {args.n_train} training presses "
               f"per object, the rest for testing, {args.seeds} seeds (frames selected in "
               f"{time.perf_counter() - t0:.0f} s)")
-        print(f"{'input':<34}{'accuracy':>18}{'time (s)':>10}{'peak RSS (MB)':>15}")
+        say(f"{'input':<34}{'accuracy':>18}{'time (s)':>10}{'peak RSS (MB)':>15}")
         for name, X, make in variants:
             reset_peak()
             t0 = time.perf_counter()
@@ -92,7 +102,9 @@ def main(argv=None):
                 acc.append(accuracy_score(y[test], clf.predict(X[test])))
             dt = time.perf_counter() - t0
             text = f"{100 * np.mean(acc):.1f}% +- {100 * np.std(acc):.1f}%"
-            print(f"{name:<34}{text:>18}{dt:>10.1f}{peak_rss_mb():>15.0f}", flush=True)
+            say(f"{name:<34}{text:>18}{dt:>10.1f}{peak_rss_mb():>15.0f}")
+    if args.out:
+        write_output(args.out, "\n".join(printed).lstrip("\n"))
 
 
 if __name__ == "__main__":
