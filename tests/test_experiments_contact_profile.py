@@ -99,13 +99,17 @@ def test_contact_profile_is_the_laplace_logistic_head_without_net_settings():
 
 
 @pytest.mark.slow
-def test_features_of_a_preset_are_cached_on_disk(tmp_path):
-    from sklearn_hardness.experiments import _data
+def test_features_of_a_preset_are_cached_on_disk(tmp_path, monkeypatch):
+    from sklearn_hardness.features import ContactProfileFeatures
+    from sklearn_hardness.utils._per_press import cache_size
 
     cfg = check_config(get_config("silicone5", model="contact_profile_nn", image_size=(32, 40)))
-    first = prepare_inputs("everyday", cfg, "contact_profile_nn", memory=tmp_path, verbose=0)
-    assert len(list(tmp_path.glob("inputs-*.npz"))) == 1
-    _data._MEMO.clear()
-    again = prepare_inputs("everyday", cfg, "contact_profile_nn", memory=tmp_path, verbose=0)
+    first = prepare_inputs("everyday", cfg, "contact_profile_nn", memory=str(tmp_path), verbose=0)
+    assert cache_size(tmp_path)[0] == len(first.y)  # one row per press
+    computed, original = [], ContactProfileFeatures._transform_presses
+    monkeypatch.setattr(ContactProfileFeatures, "_transform_presses",
+                        lambda self, X: computed.append(len(X)) or original(self, X))
+    again = prepare_inputs("everyday", cfg, "contact_profile_nn", memory=str(tmp_path), verbose=0)
+    assert computed == []  # every press read from the disk
     np.testing.assert_array_equal(again.X, first.X)
     assert first.object_id is not None and len(set(first.object_id)) == 42
