@@ -25,11 +25,11 @@ import time
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
+from joblib import Parallel, delayed
 from threadpoolctl import threadpool_limits
 
 from harness.memory import peak_rss_mb
 from harness.smoke import add_smoke_argument, parse_args, tiny_presses
-from joblib import Parallel, delayed
 
 
 def _frames(videos):

@@ -14,12 +14,12 @@ own, reading the package's public mark.
 
 import warnings
 
+import joblib
 import numpy as np
+from joblib import Parallel, delayed
 from sklearn.base import clone
 from sklearn.pipeline import Pipeline
 
-import joblib
-from joblib import Parallel, delayed
 from sklearn_hardness.utils import PerPressTransformerMixin
 
 

@@ -64,6 +64,7 @@ import warnings
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from _sim_variants import VARIANTS, variant_params
+from joblib import Parallel, delayed
 from scipy.stats import spearmanr
 from sim_vs_real_stats import parse_param, press_objects
 from sklearn.linear_model import LogisticRegression
@@ -75,7 +76,6 @@ from sklearn.preprocessing import StandardScaler
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import report
 from harness.smoke import add_smoke_argument, parse_args, tiny_presses
-from joblib import Parallel, delayed
 from sklearn_hardness.features import ContactProfileFeatures
 from sklearn_hardness.models import make_named_pipeline
 

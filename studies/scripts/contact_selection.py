@@ -26,7 +26,6 @@ from pathlib import Path
 
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
-
 from joblib import Parallel, delayed
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests"))

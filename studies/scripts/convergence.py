@@ -22,11 +22,11 @@ import time
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 import torch
+from joblib import Parallel, delayed
 from mc_share import silicone5_frames, split  # the script's folder is on sys.path
 from skorch.callbacks import GradientNormClipping, LRScheduler
 
 from harness.smoke import add_smoke_argument, parse_args
-from joblib import Parallel, delayed
 from sklearn_hardness.models import ConvLSTMClassifier, is_converged
 
 

@@ -49,6 +49,7 @@ import time
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from _evaluate_dataset import evaluate_dataset, fold_scores, table_rows, test_folds
+from joblib import Parallel, delayed
 from scipy import stats
 from sklearn.linear_model import LogisticRegression
 from sklearn.pipeline import make_pipeline
@@ -58,7 +59,6 @@ from sklearn.utils import Bunch
 from harness.memory import peak_rss_mb
 from harness.provenance import report
 from harness.smoke import add_smoke_argument, parse_args
-from joblib import Parallel, delayed
 
 N_OBJECTS, PER_OBJECT, CV = 42, 4, 5
 

@@ -41,6 +41,7 @@ import warnings
 import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from _physiclear import load_development
+from joblib import Memory, Parallel, delayed
 from sklearn.base import BaseEstimator, TransformerMixin, clone
 from sklearn.metrics import balanced_accuracy_score
 from sklearn.model_selection import GridSearchCV, StratifiedGroupKFold
@@ -48,7 +49,6 @@ from sklearn.pipeline import Pipeline
 
 from harness.provenance import report
 from harness.smoke import add_smoke_argument, parse_args
-from joblib import Memory, Parallel, delayed
 from sklearn_hardness.model_selection import corrected_interval
 from sklearn_hardness.models import make_named_pipeline
 

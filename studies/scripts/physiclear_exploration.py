@@ -37,6 +37,7 @@ import _harness  # noqa: F401 - puts the repository root on sys.path
 import cv2
 import numpy as np
 from _physiclear import load_development
+from joblib import Parallel, delayed
 from scipy.optimize import minimize
 from scipy.special import expit
 from skimage.feature import graycomatrix, graycoprops, local_binary_pattern
@@ -51,7 +52,6 @@ from sklearn.preprocessing import StandardScaler
 
 from harness.provenance import report
 from harness.smoke import add_smoke_argument, parse_args
-from joblib import Parallel, delayed
 from sklearn_hardness.features import ContactGeometryFeatures, ContactProfileFeatures
 from sklearn_hardness.features._loading_moments import loading_moments  # the features' own moments
 

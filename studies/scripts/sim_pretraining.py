@@ -49,13 +49,13 @@ import numpy as np
 from _estimate_modulus import GEL_ROI
 from _press_rows import split_per_press
 from _sim_variants import VARIANTS, variant_params
+from joblib import Parallel, delayed, effective_n_jobs
 from sim_to_real import named_pipeline
 from training_objects import add_run_arguments, margin_cell, scores, simulated_rows, wedge_rows, with_settings
 
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import report
 from harness.smoke import parse_args, tiny_presses
-from joblib import Parallel, delayed, effective_n_jobs
 
 PIPELINES = ("peak_change", "contact_profile", "convlstm_intensity")
 

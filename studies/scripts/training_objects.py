@@ -45,6 +45,7 @@ import _harness  # noqa: F401 - puts the repository root on sys.path
 import numpy as np
 from _estimate_modulus import GEL_ROI, expected_rank, family_pairs, load_estimate_modulus
 from _press_rows import prefix_key, split_per_press, transform_per_press
+from joblib import Parallel, delayed, effective_n_jobs
 from scipy import stats
 from sim_to_real import named_pipeline
 from sim_vs_real_stats import parse_param
@@ -53,7 +54,6 @@ from sklearn.metrics import balanced_accuracy_score
 from harness.memory import peak_rss_mb, reset_peak
 from harness.provenance import report
 from harness.smoke import add_smoke_argument, parse_args, tiny_presses
-from joblib import Parallel, delayed, effective_n_jobs
 from sklearn_hardness.models import pipeline_info
 
 
