@@ -111,7 +111,7 @@ def main(argv=None):
 
 def _everyday(args):
     from sklearn_hardness.datasets import make_presses
-    from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation
+    from sklearn_hardness.model_selection import evaluate_pipelines
     from sklearn_hardness.preprocessing import contact_curve
 
     codec = None if args.codec == "none" else args.codec
@@ -145,7 +145,7 @@ def _everyday(args):
     result = evaluate_pipelines(["contact_profile"], data.videos, data.target, groups=data.object_id, cv=5,
                                 target_names=data.target_names, hardness=data.hardness, n_jobs=args.n_jobs,
                                 random_state=0)
-    print(format_evaluation(result))
+    print(result)
     print(f"evaluation {time.perf_counter() - t0:.1f} s")
 
 

@@ -48,9 +48,6 @@ nitpicky = True
 nitpick_ignore_regex = [
     (r"py:.*", r"(numpy|sklearn|skorch|torch|cv2|scipy|matplotlib|pandas|joblib|transformers|pickle)(\..*)?"),
 ]
-# Pending in a module that another change rewrites (experiments/_stats.py, issue 59 item 6):
-# paired_table's docstring cites the private PAIRED_METRICS. Remove the entry with that change.
-nitpick_ignore = [("py:data", "PAIRED_METRICS")]
 
 autosummary_generate = True
 # Inherited members are documented when they are this package's (predict_proba_samples of the

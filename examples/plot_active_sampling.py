@@ -25,10 +25,6 @@ import matplotlib.pyplot as plt
 
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.experiments import (
-    comparison_table,
-    format_table,
-    plot_active_sampling,
-    plot_uncertainty,
     run_active_sampling,
 )
 
@@ -62,7 +58,7 @@ result = run_active_sampling(
     n_jobs=2,
     verbose=0,
 )
-print(format_table(comparison_table(result), mae_unit=data.hardness_unit))
+print(result.format_table(result.comparison_table(), mae_unit=data.hardness_unit))
 
 # %%
 # Every run is a plain dict: per-iteration accuracy (dropout off), hardness
@@ -76,8 +72,8 @@ print(run["key"], run["accuracy"], run["queried"])
 # Accuracy and MAE per iteration (mean and standard deviation over runs),
 # and the mean entropy and variance of the MC-dropout predictions.
 fig, axes = plt.subplots(2, 2, figsize=(9, 6.5), layout="constrained")
-plot_active_sampling(result, "accuracy", ax=axes[0, 0])
-plot_active_sampling(result, "mae", ax=axes[0, 1])
-plot_uncertainty(result, "entropy", ax=axes[1, 0])
-plot_uncertainty(result, "variance", ax=axes[1, 1])
+result.plot_active_sampling("accuracy", ax=axes[0, 0])
+result.plot_active_sampling("mae", ax=axes[0, 1])
+result.plot_uncertainty("entropy", ax=axes[1, 0])
+result.plot_uncertainty("variance", ax=axes[1, 1])
 fig.suptitle("Active sampling on simulated silicone5 presses (1 seed per test object)")

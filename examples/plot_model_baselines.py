@@ -26,9 +26,6 @@ from transformers import Dinov2Config, Dinov2Model
 
 from sklearn_hardness.datasets import make_presses
 from sklearn_hardness.experiments import (
-    baseline_table,
-    format_table,
-    plot_model_baselines,
     run_model_baselines,
 )
 from sklearn_hardness.features import DINOv2Features
@@ -57,10 +54,10 @@ result = run_model_baselines(
     n_jobs=2,
     verbose=0,
 )
-print(format_table(baseline_table(result), mae_unit="mm/N"))
+print(result.format_table(result.baseline_table(), mae_unit="mm/N"))
 
 # %%
 # Train and test accuracy per model
 # ---------------------------------
-plot_model_baselines(result)
+result.plot_model_baselines()
 plt.show()

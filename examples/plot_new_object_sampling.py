@@ -27,7 +27,7 @@ import numpy as np
 from sklearn.model_selection import train_test_split
 
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import comparison_table, format_table, plot_active_sampling, run_active_sampling
+from sklearn_hardness.experiments import run_active_sampling
 from sklearn_hardness.models import make_contact_profile_pipeline
 
 data = make_presses("everyday", image_size=(96, 128), random_state=0)
@@ -82,8 +82,8 @@ result = run_active_sampling(
     n_jobs=2,
     verbose=0,
 )
-print(format_table(comparison_table(result)))
+print(result.format_table(result.comparison_table()))
 
 fig, ax = plt.subplots(figsize=(4.5, 3), layout="constrained")
-plot_active_sampling(result, "accuracy", ax=ax)
+result.plot_active_sampling("accuracy", ax=ax)
 plt.show()

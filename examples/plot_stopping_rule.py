@@ -96,4 +96,4 @@ plt.show()
 # is settled when 80% of them agree for 2 iterations) and report, per strategy,
 # the presses used and the accuracy at the stop with 95% paired intervals
 # (``presses_at_stop`` and ``accuracy_at_stop`` in
-# :func:`~sklearn_hardness.experiments.paired_table`).
+# :meth:`~sklearn_hardness.experiments.ExperimentResult.paired_table`).

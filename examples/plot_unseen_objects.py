@@ -33,7 +33,7 @@ import numpy as np
 from sklearn.utils import Bunch
 
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.model_selection import ConfusionMatricesDisplay, evaluate_pipelines, format_evaluation
+from sklearn_hardness.model_selection import ConfusionMatricesDisplay, evaluate_pipelines
 from sklearn_hardness.models import make_named_pipeline
 
 data = make_presses("everyday", image_size=(96, 128), random_state=0)
@@ -41,7 +41,7 @@ data.videos = list(data.videos)  # the simulator renders a video each time it is
 print(len(data.target), "presses of", len(set(data.object_id)), "objects")
 result = evaluate_pipelines(["contact_profile"], data.videos, data.target, groups=data.object_id, cv=5,
                             target_names=data.target_names, hardness=data.hardness, n_jobs=2, random_state=0)
-print(format_evaluation(result))
+print(result)
 
 # %%
 # ``result.cv_results_`` holds one entry per pipeline and fold, as

@@ -120,8 +120,8 @@ def test_the_docs_build_fails_on_a_dangling_reference(monkeypatch):
     assert "-W" in (DOCS / "build_docs.sh").read_text().split()
     # the only exceptions are other projects' names, not ours
     for _, target in conf["nitpick_ignore_regex"]:
-        assert not re.fullmatch(target, "sklearn_hardness.models.chance_scaled_threshold")
-        assert not re.fullmatch(target, "chance_scaled_threshold")
+        assert not re.fullmatch(target, "sklearn_hardness.models.is_converged")
+        assert not re.fullmatch(target, "is_converged")
 
 
 def test_api_pages_link_public_bases_and_qualify_bare_names(monkeypatch):
@@ -135,10 +135,10 @@ def test_api_pages_link_public_bases_and_qualify_bare_names(monkeypatch):
     assert bases == [NeuralNetClassifier]
     # a bare name of the docstring's own subpackage is qualified (it resolves in api.rst too);
     # a private one is left as it is, to fail the nitpicky build
-    lines = [":func:`paired_table` of :data:`PAIRED_METRICS`"]
-    conf["_qualify_bare_references"](None, "function", "sklearn_hardness.experiments.format_paired_table",
+    lines = [":func:`run_active_sampling` of :data:`PAIRED_METRICS`"]
+    conf["_qualify_bare_references"](None, "method", "sklearn_hardness.experiments.ExperimentResult.paired_table",
                                      None, {}, lines)
-    assert lines == [":func:`~sklearn_hardness.experiments.paired_table` of :data:`PAIRED_METRICS`"]
+    assert lines == [":func:`~sklearn_hardness.experiments.run_active_sampling` of :data:`PAIRED_METRICS`"]
     assert conf["_skip_members"](None, "class", "fit", NeuralNetClassifier.fit, False, {}) is True
     assert conf["_skip_members"](None, "class", "predict_proba_samples",
                                  OFNNClassifier.predict_proba_samples, False, {}) is None

@@ -7,14 +7,10 @@ from sklearn.utils import Bunch
 
 from sklearn_hardness.experiments import (
     ExperimentResult,
-    baseline_table,
-    comparison_table,
-    format_table,
     get_config,
     run_active_sampling,
     run_dropout_sweep,
     run_model_baselines,
-    save_figures,
 )
 from sklearn_hardness.experiments._config import config_hash
 from sklearn_hardness.experiments._results import ResultsStore
@@ -180,7 +176,7 @@ def test_active_sampling_resumes_without_recomputing(active_result):
 
 def test_comparison_table_and_figures(active_result, tmp_path):
     res, _ = active_result
-    rows = comparison_table(res)
+    rows = res.comparison_table()
     assert [r["name"] for r in rows] == ["no resampling", "variance", "entropy", "random", "bald",
                                          "humans (paper)"]
     base = rows[0]
@@ -191,9 +187,9 @@ def test_comparison_table_and_figures(active_result, tmp_path):
     assert rows[2]["accuracy_mean"] == pytest.approx(np.mean(accN))
     assert rows[2]["accuracy_std"] == pytest.approx(np.std(accN))
     assert rows[-1]["accuracy_mean"] == HUMAN_ACCURACY[0] == 0.48
-    text = format_table(rows, mae_unit="mm/N")
+    text = ExperimentResult.format_table(rows, mae_unit="mm/N")
     assert "humans (paper)" in text and "48.00% +- 22.27%" in text and "MAE (mm/N)" in text
-    paths = save_figures(res, tmp_path)
+    paths = res.save_figures(tmp_path)
     assert {os.path.basename(p) for p in paths} == {"accuracy.png", "mae.png", "entropy.png", "variance.png"}
     for p in paths:
         with open(p, "rb") as f:
@@ -238,7 +234,7 @@ def test_convlstm_convergence_rule():
     never = run_active_sampling(data, convergence_threshold=0.0, **kw)
     assert all(not r["converged"] for r in never.records)
     assert all(len(r["accuracy"]) == 1 and r["queried"] == [] for r in never.records)
-    rows = comparison_table(never)
+    rows = never.comparison_table()
     assert rows[0]["converged_fraction"] == 0.0 and rows[1]["n_runs"] == 0
     always = run_active_sampling(data, convergence_threshold=100.0, **kw)
     assert all(r["converged"] and len(r["accuracy"]) == 3 for r in always.records)
@@ -259,12 +255,12 @@ def test_model_baselines_and_dropout_sweep(tmp_path):
         assert len(r["train_loss_curve"]) == 3 and len(r["test_indices"]) == 10
     # the same seed gives both models the same split
     assert base.records[0]["test_indices"] == base.records[2]["test_indices"]
-    rows = baseline_table(base)
+    rows = base.baseline_table()
     assert [r["name"] for r in rows] == ["ofnn", "convlstm"]
     sweep = run_dropout_sweep(data, model="ofnn", dropouts=(0.1, 0.3, 0.5), results_path=tmp_path / "d.jsonl", **kw)
     assert [r["key"]["dropout"] for r in sweep.records] == [0.1, 0.1, 0.3, 0.3, 0.5, 0.5]
-    assert [r["name"] for r in baseline_table(sweep)] == ["0.1", "0.3", "0.5"]
-    names = {os.path.basename(p) for p in save_figures(base, tmp_path) + save_figures(sweep, tmp_path)}
+    assert [r["name"] for r in sweep.baseline_table()] == ["0.1", "0.3", "0.5"]
+    names = {os.path.basename(p) for p in base.save_figures(tmp_path) + sweep.save_figures(tmp_path)}
     assert names == {"baselines.png", "dropout_accuracy.png", "dropout_mae.png"}
     with pytest.raises(ValueError, match="dropout rates"):
         run_dropout_sweep(data, model="ofnn", dropouts=(0.1, 1.2), **kw)

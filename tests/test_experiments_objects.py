@@ -10,7 +10,7 @@ from sklearn.utils import Bunch
 
 from sklearn_hardness.active import PressOracle
 from sklearn_hardness.datasets import make_presses
-from sklearn_hardness.experiments import ExperimentResult, _active, paired_table, presses_to_reach, run_active_sampling
+from sklearn_hardness.experiments import ExperimentResult, _active, run_active_sampling
 from sklearn_hardness.experiments._config import check_config, get_config
 from sklearn_hardness.experiments._run import _seeds, _split, _split_objects
 
@@ -56,9 +56,9 @@ def test_no_press_of_the_test_object_is_trained_on_pooled_or_held_out():
         for seed in (0, 1):
             a, b = [r for r in res.records if r["key"]["test_object"] == obj and r["key"]["seed"] == seed]
             assert a["test_indices"] == b["test_indices"] and a["initial_indices"] == b["initial_indices"]
-    rows = paired_table(res, metrics=["accuracy", "holdout_accuracy"])
+    rows = res.paired_table(metrics=["accuracy", "holdout_accuracy"])
     assert {r["n_pairs"] for r in rows if r["strategy"] == "variance"} == {len(tests) * 2}
-    assert {r["n_pairs"] for r in presses_to_reach(res, n_boot=50)} == {len(tests) * 2}
+    assert {r["n_pairs"] for r in res.presses_to_reach(n_boot=50)} == {len(tests) * 2}
 
 
 def test_the_split_never_uses_the_test_object_for_every_object_and_seed():
@@ -206,7 +206,7 @@ def test_tables_pair_runs_by_test_object():
              "accuracy": [0.0, a], "initial_indices": [0] * 2, "drawn_indices": [[0] * 2]}
             for o, (ar, av) in (("a", (0.0, 1.0)), ("b", (0.5, 1.0)), ("c", (0.5, 0.5)))
             for s, a in (("random", ar), ("variance", av))]
-    row = [r for r in paired_table(ExperimentResult(recs), metrics=["accuracy"]) if r["strategy"] == "variance"][0]
+    row = [r for r in ExperimentResult(recs).paired_table(metrics=["accuracy"]) if r["strategy"] == "variance"][0]
     assert row["n_pairs"] == 3 and row["diff"] == pytest.approx(0.5)
 
 

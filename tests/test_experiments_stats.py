@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from sklearn_hardness.experiments import ExperimentResult, format_paired_table, paired_table
+from sklearn_hardness.experiments import ExperimentResult
 
 
 def _result(rng, n_pairs=12, gain=0.1, converged_fail=()):
@@ -22,7 +22,7 @@ def _result(rng, n_pairs=12, gain=0.1, converged_fail=()):
 
 def test_paired_table_matches_scipy_and_finds_a_real_gain():
     res = _result(np.random.default_rng(0))
-    rows = {(r["strategy"], r["metric"]): r for r in paired_table(res)}
+    rows = {(r["strategy"], r["metric"]): r for r in res.paired_table()}
     assert {m for _, m in rows} == {"accuracy", "mae", "auc", "holdout_accuracy"}
     v = rows[("variance", "accuracy")]
     d = np.array([a["accuracy"][-1] - b["accuracy"][-1] for a, b in zip(
@@ -44,13 +44,13 @@ def test_paired_table_matches_scipy_and_finds_a_real_gain():
         rows[("variance", "auc")]["mean"])
     assert r0  # the reference row has no difference
     assert "diff" not in rows[("random", "accuracy")]
-    text = format_paired_table(paired_table(res))
+    text = res.format_paired_table(res.paired_table())
     assert "(reference)" in text and "p (Wilcoxon)" in text and "12 pairs" in text
 
 
 def test_paired_table_uses_converged_pairs_only_and_rejects_bad_input():
     res = _result(np.random.default_rng(1), converged_fail=(("random", 0), ("variance", 5)))
-    v = [r for r in paired_table(res, metrics=["accuracy"]) if r["strategy"] == "variance"][0]
+    v = [r for r in res.paired_table(metrics=["accuracy"]) if r["strategy"] == "variance"][0]
     assert v["n"] == 11 and v["n_pairs"] == 10
     # identical strategies: p = 1, not NaN
     same = _result(np.random.default_rng(2), gain=0.0)
@@ -58,14 +58,14 @@ def test_paired_table_uses_converged_pairs_only_and_rejects_bad_input():
         if r["key"]["strategy"] == "entropy":
             r["accuracy"] = next(x["accuracy"] for x in same.records if x["key"]["strategy"] == "random"
                                  and x["key"]["seed"] == r["key"]["seed"])
-    e = [r for r in paired_table(same, metrics=["accuracy"]) if r["strategy"] == "entropy"][0]
+    e = [r for r in same.paired_table(metrics=["accuracy"]) if r["strategy"] == "entropy"][0]
     assert e["diff"] == 0 and e["p_ttest"] == 1.0 and e["p_wilcoxon"] == 1.0
     with pytest.raises(ValueError, match="reference"):
-        paired_table(res, reference="bald")
+        res.paired_table(reference="bald")
     with pytest.raises(ValueError, match="unknown metrics"):
-        paired_table(res, metrics=["f1"])
+        res.paired_table(metrics=["f1"])
     with pytest.raises(ValueError, match="no active-sampling"):
-        paired_table(ExperimentResult([]))
+        ExperimentResult([]).paired_table()
 
 
 def test_reproduce_protocol_paper_passes_its_arguments(tmp_path, capsys, monkeypatch):
@@ -166,7 +166,7 @@ def test_decision_stop_counts_presses_to_a_settled_decision():
 
 
 def test_paired_table_reports_presses_and_accuracy_at_the_stop():
-    from sklearn_hardness.experiments import ExperimentResult, paired_table
+    from sklearn_hardness.experiments import ExperimentResult
 
     settled_early = [[1] * 5, [1] * 5, [1] * 5, [1] * 5]
     wandering = [[0] * 5, [2] * 5, [1] * 5, [1] * 5]
@@ -177,7 +177,7 @@ def test_paired_table_reports_presses_and_accuracy_at_the_stop():
             r["key"] = {"strategy": strategy, "test_class": 1, "seed": seed}
             r["accuracy"] = [float(np.mean(np.asarray(p) == 1)) for p in preds]
             recs.append(r)
-    rows = {(r["strategy"], r["metric"]): r for r in paired_table(ExperimentResult(recs))}
+    rows = {(r["strategy"], r["metric"]): r for r in ExperimentResult(recs).paired_table()}
     assert rows["variance", "presses_at_stop"]["mean"] == 30  # 25 initial + 1 query of 5
     assert rows["random", "presses_at_stop"]["mean"] == 40  # settles at t=3
     assert rows["variance", "presses_at_stop"]["diff"] == -10
@@ -204,9 +204,8 @@ def _curve_result(rng, n_pairs=40, early=("fast",), never=("flat",), converged_f
 
 
 def test_presses_to_reach_finds_the_strategy_that_gets_there_sooner():
-    from sklearn_hardness.experiments import format_presses_to_reach, presses_to_reach
 
-    rows = {r["strategy"]: r for r in presses_to_reach(_curve_result(np.random.default_rng(0)), n_boot=500)}
+    rows = {r["strategy"]: r for r in _curve_result(np.random.default_rng(0)).presses_to_reach(n_boot=500)}
     assert rows["random"]["presses"] == [25, 30, 35, 40, 45, 50]
     assert rows["random"]["presses_to_reach"] == 50  # random's own final accuracy, at its last press
     assert rows["fast"]["presses_to_reach"] == 35
@@ -214,7 +213,7 @@ def test_presses_to_reach_finds_the_strategy_that_gets_there_sooner():
     assert rows["fast"]["p_reached"] == 1.0
     assert rows["flat"]["presses_to_reach"] == np.inf and rows["flat"]["p_reached"] < 0.05
     assert rows["flat"]["ci_high"] == np.inf and rows["flat"]["diff"] == np.inf
-    text = format_presses_to_reach(list(rows.values()))
+    text = ExperimentResult.format_presses_to_reach(list(rows.values()))
     assert "never" in text and "-15 [" in text
     # the target is the reference's mean final accuracy over the same pairs
     finals = [r["accuracy"][-1] for r in _curve_result(np.random.default_rng(0)).records
@@ -223,16 +222,15 @@ def test_presses_to_reach_finds_the_strategy_that_gets_there_sooner():
 
 
 def test_presses_to_reach_pairs_converged_runs_and_is_seeded():
-    from sklearn_hardness.experiments import presses_to_reach
 
     res = _curve_result(np.random.default_rng(1), converged_fail={("fast", 0), ("random", 1)})
-    rows = {r["strategy"]: r for r in presses_to_reach(res, n_boot=300, random_state=3)}
+    rows = {r["strategy"]: r for r in res.presses_to_reach(n_boot=300, random_state=3)}
     assert rows["fast"]["n_pairs"] == 38 and rows["flat"]["n_pairs"] == 39
-    again = {r["strategy"]: r for r in presses_to_reach(res, n_boot=300, random_state=3)}
+    again = {r["strategy"]: r for r in res.presses_to_reach(n_boot=300, random_state=3)}
     assert again["fast"]["ci_low"] == rows["fast"]["ci_low"] and again["fast"]["diff_low"] == rows["fast"]["diff_low"]
     with pytest.raises(ValueError, match="reference strategy 'bald'"):
-        presses_to_reach(res, reference="bald")
+        res.presses_to_reach(reference="bald")
     with pytest.raises(ValueError, match="n_boot"):
-        presses_to_reach(res, n_boot=0)
+        res.presses_to_reach(n_boot=0)
     with pytest.raises(ValueError, match="level"):
-        presses_to_reach(res, level=1.5)
+        res.presses_to_reach(level=1.5)

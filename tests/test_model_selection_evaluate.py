@@ -20,7 +20,6 @@ from sklearn_hardness.model_selection import (
     EvaluationResult,
     corrected_interval,
     evaluate_pipelines,
-    format_evaluation,
 )
 from sklearn_hardness.model_selection._per_press import first_input
 from sklearn_hardness.model_selection._report import fold_scores
@@ -106,7 +105,7 @@ def test_folds_are_object_disjoint_and_table_is_complete(tiny):
         assert result.confusion_matrix(name).sum() == len(tiny.target)
     # a constant prediction scores chance exactly on every fold
     np.testing.assert_allclose(_scores(result, "dummy"), 1 / 3)
-    text = format_evaluation(result)
+    text = str(result)
     assert "object-disjoint 3-fold CV, 12 objects" in text and "dummy" in text
 
 
@@ -144,7 +143,7 @@ def test_recommendation_names_the_best_pipeline_above_the_baseline(tiny):
     assert np.isnan(rows["peak_change"]["balanced_accuracy_vs_baseline"])
     assert rows["oracle"]["balanced_accuracy"] == 1.0 and rows["oracle"]["balanced_accuracy_vs_baseline_low"] > 0
     assert result.recommended == "oracle" and result.recommended_with_samples is None
-    text = format_evaluation(result)
+    text = str(result)
     assert "Choose oracle" in text and "No pipeline above the baseline has predict_proba_samples" in text
     # with predict_proba_samples it is also the choice for active sampling
     pipes["oracle"] = _KnowsTheLabelsWithSamples(labels)
@@ -155,11 +154,11 @@ def test_recommendation_names_the_best_pipeline_above_the_baseline(tiny):
     # nothing above the baseline: no recommendation, and the text says the one number does as well
     result = _run(tiny, {"dummy": DummyClassifier(strategy="most_frequent")}, cv=3, verbose=0)
     assert result.recommended is None and result.recommended_with_samples is None
-    assert "No pipeline is above the one-number baseline" in format_evaluation(result)
+    assert "No pipeline is above the one-number baseline" in str(result)
     # without the baseline, no comparison and no recommendation line
     result = _run(tiny, {"dummy": DummyClassifier()}, cv=3, baseline=False, verbose=0)
     assert np.isnan(result.summary["balanced_accuracy_vs_baseline"][0]) and result.recommended is None
-    assert "Choose" not in format_evaluation(result) and "vs peak:" not in format_evaluation(result)
+    assert "Choose" not in str(result) and "vs peak:" not in str(result)
 
 
 def test_margin_interval_is_corrected_for_overlapping_training_sets(tiny):
@@ -241,7 +240,7 @@ def test_repeated_folds_reuse_the_objects_in_other_assignments(tiny):
         half = t * np.sqrt(values.var(ddof=1) * (1 / 9 + ratio))
         got = (rows["dummy"][key], rows["dummy"][f"{key}_low"], rows["dummy"][f"{key}_high"])
         assert got == pytest.approx((values.mean(), max(values.mean() - half, bound), min(values.mean() + half, 1)))
-    assert "object-disjoint 3-fold CV x 3 repetitions, 12 objects" in format_evaluation(result)
+    assert "object-disjoint 3-fold CV x 3 repetitions, 12 objects" in str(result)
     with pytest.raises(ValueError, match="n_repeats"):  # InvalidParameterError
         _run(tiny, [], cv=3, n_repeats=0)
 
@@ -285,8 +284,8 @@ def test_intervals_are_clipped_to_the_range_of_the_score(tiny):
     assert (row["balanced_accuracy_low"], row["balanced_accuracy_high"]) == pytest.approx((scores.mean() - half, 1.0))
     assert row["balanced_accuracy_high"] == 1.0
     # 4 folds: the table says in words that they are too few for an interval, rather than print it
-    assert "4 folds: too few for an interval" in format_evaluation(result)
-    assert f"[{scores.mean() - half:.2f}, 1.00]" not in format_evaluation(result)
+    assert "4 folds: too few for an interval" in str(result)
+    assert f"[{scores.mean() - half:.2f}, 1.00]" not in str(result)
     for r in _rows(result).values():  # every interval within the range of its score
         assert 0 <= r["balanced_accuracy_low"] <= r["balanced_accuracy_high"] <= 1
         assert r["neg_hardness_mae_high"] <= 0
@@ -301,7 +300,7 @@ def test_recall_per_class_says_which_ranks_a_pipeline_misses(tiny):
     names = [str(n) for n in tiny.target_names]
     np.testing.assert_allclose(np.diag(result.confusion_matrix("oracle", normalize="true")), 1.0)
     np.testing.assert_allclose(np.diag(result.confusion_matrix("dummy", normalize="true")), [0, 1, 0])
-    text = format_evaluation(result)
+    text = str(result)
     assert f"recall per class, out of fold ({' / '.join(names)}):" in text
     assert "oracle" in text and "1.00 / 1.00 / 1.00" in text and "0.00 / 1.00 / 0.00" in text
     cm = result.confusion_matrix("peak_change")
@@ -356,7 +355,7 @@ def test_per_object_figures_class_each_object_by_its_presses_mean_probabilities(
     base = _scores(result, "peak_change", "object_balanced_accuracy")
     assert rows["mean"]["object_balanced_accuracy_vs_baseline"] == pytest.approx(np.mean(1.0 - base))
     assert np.isnan(rows["peak_change"]["object_balanced_accuracy_vs_baseline"])
-    text = format_evaluation(result)
+    text = str(result)
     assert "per object: each test object classed by the mean of its presses' predicted probabilities" in text
     assert "12 objects, median 2 presses each" in text
     block = text.split("per object:")[1].split("recall per class")[0]
@@ -375,7 +374,7 @@ def test_failing_pipeline_is_reported_not_dropped(tiny):
     row = _rows(result)["bad"]
     assert np.isnan(row["balanced_accuracy"]) and "boom" in row["error"]
     assert list(result.cv_results_["error"][result.cv_results_["pipeline"] == "bad"]) == ["RuntimeError: boom"] * 3
-    assert "error: RuntimeError: boom" in format_evaluation(result)
+    assert "error: RuntimeError: boom" in str(result)
     with pytest.raises(RuntimeError, match="boom"):
         _run(tiny, {"bad": _Fails()}, cv=3)
     # a numeric error_score scores the failing folds, as cross_validate does
@@ -411,7 +410,7 @@ def test_one_fold_does_not_make_a_recommendation(tiny):
     assert np.isnan([row["balanced_accuracy_vs_baseline_low"], row["balanced_accuracy_vs_baseline_high"],
                      row["balanced_accuracy_low"], row["balanced_accuracy_high"]]).all()
     assert result.recommended is None
-    assert "No pipeline is above the one-number baseline" in format_evaluation(result)
+    assert "No pipeline is above the one-number baseline" in str(result)
 
 
 def test_bad_input(tiny):
@@ -918,7 +917,7 @@ def test_notes_say_once_what_the_folds_warnings_would_have_said(tiny):
     assert result.notes[0].startswith(f"contact (frames): found on {found} of {len(status)} presses "
                                       f"({weak} weak); ")
     assert f"too short {short}: their frames are spread" in result.notes[0]
-    assert len(result.notes) == 1 and f"data: {result.notes[0]}" in format_evaluation(result)
+    assert len(result.notes) == 1 and f"data: {result.notes[0]}" in str(result)
     # selections that agree on every press give one line naming their pipelines; others their own
     pipes = {"frames": frames, "more_frames": make_pipeline(ContactFrameSelector(n_between=3), DummyClassifier()),
              "blind": make_pipeline(ContactFrameSelector(threshold=1e6), DummyClassifier())}
@@ -979,7 +978,7 @@ def test_flow_note_counts_the_corners_and_lost_tracks_of_every_press(tiny):
         f"fewest 0, most {corners.max()}, at most n_features=30); none on {(corners == 0).sum()} of {n} presses: "
         f"their rows are those of a press without motion; {lost.sum() / corners.sum():.0%} of the tracks lost "
         f"before the last frame (on {(lost > 0).sum()} of {n} presses)")
-    assert len(result.notes) == 2 and f"data: {result.notes[1]}" in format_evaluation(result)
+    assert len(result.notes) == 2 and f"data: {result.notes[1]}" in str(result)
 
 
 class _SlowDummy(DummyClassifier):
@@ -1318,5 +1317,5 @@ def test_default_scores_are_the_balanced_accuracy_per_press_and_per_object_and_t
         assert cv["test_neg_hardness_mae"][i] == pytest.approx(-hardness_mae(y, pred, tiny.hardness))
     # the text gives the MAE as a positive error, as before
     mae = -np.mean(_scores(result, "dummy", "neg_hardness_mae"))
-    line = next(line for line in format_evaluation(result).splitlines() if line.startswith("dummy"))
+    line = next(line for line in str(result).splitlines() if line.startswith("dummy"))
     assert f" {mae:.2f} " in line

@@ -11,7 +11,7 @@ from sklearn.base import clone
 from sklearn.linear_model import LogisticRegression
 from sklearn.model_selection import StratifiedKFold, cross_val_score
 
-from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation
+from sklearn_hardness.model_selection import evaluate_pipelines
 from sklearn_hardness.models import (
     ContactProfileNNClassifier,
     LaplaceLogisticRegression,
@@ -114,7 +114,7 @@ def test_contact_profile_nn_runs_by_name_in_evaluate():
     assert (result.out_of_fold_predictions("contact_profile_nn") >= 0).all()
     # the longer name keeps the table's columns: accuracies start in one column
     names = result.pipelines
-    lines = format_evaluation(result).splitlines()
+    lines = str(result).splitlines()
     first = next(i for i, line in enumerate(lines) if line.split(" ")[0] == names[0])
     rows = lines[first:first + len(names)]
     assert [row.split(" ")[0] for row in rows] == names

@@ -45,7 +45,7 @@ def test_rule_rejects_unfitted():
 
 
 def test_chance_scaled_threshold_keeps_the_papers_fraction_of_chance_loss():
-    from sklearn_hardness.models._convergence import chance_scaled_threshold
+    from sklearn_hardness.utils._chance_threshold import chance_scaled_threshold
 
     assert chance_scaled_threshold(5) == 1.0  # exactly the paper's rule at its 5 classes
     assert chance_scaled_threshold(9) == pytest.approx(np.log(9) / np.log(5))

@@ -58,8 +58,8 @@ def test_the_core_imports_and_fits_a_named_pipeline_without_the_optional_package
      "ConfusionMatricesDisplay({'a': np.eye(2, dtype=int)}).plot()", "plot"),
     ("from sklearn_hardness.preprocessing import ContactFrameSelector, plot_contact_selection\n"
      "plot_contact_selection(ContactFrameSelector().fit([video]))", "plot"),
-    ("from sklearn_hardness.experiments import ExperimentResult, save_figures\n"
-     "save_figures(ExperimentResult([]), 'figures')", "plot"),
+    ("from sklearn_hardness.experiments import ExperimentResult\n"
+     "ExperimentResult([]).save_figures('figures')", "plot"),
     ("from sklearn_hardness.features import ImprintTextureFeatures\n"
      "ImprintTextureFeatures().fit([video])", "texture"),
 ])

@@ -123,7 +123,7 @@ def _force_position(data, names):
 
 
 def _run_evaluate(args):
-    from ..model_selection import ConfusionMatricesDisplay, evaluate_pipelines, format_evaluation
+    from ..model_selection import ConfusionMatricesDisplay, evaluate_pipelines
     from ..models import make_named_pipeline
     from ..utils._validation import check_roi
     from ._header import output_header, read_header
@@ -147,7 +147,7 @@ def _run_evaluate(args):
             target_names=data.target_names, hardness=getattr(data, "hardness", None),
             force_position=force_position, n_jobs=args.n_jobs, random_state=args.seed,
             verbose=0 if args.quiet else 1)
-    _write(args, result, format_evaluation(result), ConfusionMatricesDisplay, output_header, read_header)
+    _write(args, result, str(result), ConfusionMatricesDisplay, output_header, read_header)
     return 0
 
 

@@ -160,16 +160,7 @@ def _reproduce_config(args):
 def _run_reproduce(args):
     import time
 
-    from ..experiments import (
-        comparison_table,
-        format_paired_table,
-        format_presses_to_reach,
-        format_table,
-        paired_table,
-        presses_to_reach,
-        run_active_sampling,
-        save_figures,
-    )
+    from ..experiments import run_active_sampling
     from ..utils._unreadable import UnreadableVideosError
     from ._header import output_header
 
@@ -198,9 +189,9 @@ def _run_reproduce(args):
     except UnreadableVideosError as exc:
         raise _UsageError(str(exc)) from exc
     cfg = result.config
-    rows = comparison_table(result)
+    rows = result.comparison_table()
     n_it = cfg["n_iterations"]
-    table = format_table(rows, mae_unit=cfg.get("hardness_unit"))
+    table = result.format_table(rows, mae_unit=cfg.get("hardness_unit"))
     if cfg["model"] in EXPERIMENT_MODELS and not pipeline_info(cfg["model"]).random:  # a logistic regression
         # refitted per iteration
         training = (f"M={cfg['max_reservoir']}, refitted per iteration, n_test={cfg['n_test']}, "
@@ -231,11 +222,11 @@ def _run_reproduce(args):
     if "random" in cfg["strategies"] and len(cfg["strategies"]) > 1:
         # strategies on the same (test object, seed) pairs, against random; what a robot user
         # wants first: presses to reach random's accuracy, then presses and accuracy at the stop
-        paired = format_presses_to_reach(presses_to_reach(result)) + (
+        paired = result.format_presses_to_reach(result.presses_to_reach()) + (
             "\nPresses to reach random's final accuracy: the first press count at which a strategy's mean "
             "test accuracy over the pairs is at least random's mean final accuracy (experiments."
             "presses_to_reach; 95% bootstrap intervals over the pairs; never: not within the budget)."
-        ) + "\n\n" + format_paired_table(paired_table(result)) + (
+        ) + "\n\n" + result.format_paired_table(result.paired_table()) + (
             "\nConverged runs; differences and p-values over the pairs where both runs converged. "
             "presses_at_stop / accuracy_at_stop: reference presses used and test accuracy when the "
             "vote of the test presses is settled (80% of them agree for 2 iterations); "
@@ -247,7 +238,7 @@ def _run_reproduce(args):
             f.write(provenance + "\n" + header + "\n" + paired + "\n")
     with open(os.path.join(args.out, "config.json"), "w") as f:
         json.dump(dict(cfg), f, indent=2, default=repr)
-    paths = save_figures(result, args.out)
+    paths = result.save_figures(args.out)
     extra = "paired.txt, " if os.path.exists(os.path.join(args.out, "paired.txt")) else ""
     print(f"wrote {results_path}, table.txt, {extra}config.json and {len(paths)} figures to {args.out} "
           f"({time.time() - t0:.0f} s)")

@@ -6,13 +6,14 @@
   object (Sec. III-D).
 - :func:`run_dropout_sweep`: accuracy and MAE against the dropout rate
   (Sec. III-E).
-- :func:`comparison_table`, :func:`format_table`: the paper's Table I.
-- :func:`paired_table`, :func:`format_paired_table`: strategies against
-  random over paired runs, with 95% intervals and p-values;
-  :func:`presses_to_reach`: presses each strategy needs to reach random's final accuracy.
-- :func:`plot_active_sampling`, :func:`plot_uncertainty`,
-  :func:`plot_model_baselines`,
-  :func:`save_figures`: the paper's figures (matplotlib, PNG).
+- :class:`ExperimentResult`: what each of them returns, the records of its
+  runs, with the tables and figures as methods: ``comparison_table`` (the
+  paper's Table I), ``baseline_table``, ``paired_table`` (strategies against
+  random over paired runs, with 95% intervals and p-values),
+  ``presses_to_reach`` (presses each strategy needs to reach random's final
+  accuracy), their ``format_*`` text, and the paper's figures
+  (``plot_active_sampling``, ``plot_uncertainty``, ``plot_dropout_sweep``,
+  ``plot_model_baselines``, ``save_figures``; matplotlib, the ``plot`` extra).
 - :func:`get_config`: the paper's hyperparameters per preset;
   :func:`check_config` checks one.
 - :func:`run_paper_protocol`: all of the above, as ``sklearn-hardness reproduce --protocol paper``.
@@ -42,17 +43,6 @@ _LAZY = {
     "run_active_sampling": "._active",
     "run_model_baselines": "._baselines",
     "run_dropout_sweep": "._baselines",
-    "comparison_table": "._tables",
-    "baseline_table": "._tables",
-    "format_table": "._tables",
-    "paired_table": "._stats",
-    "format_paired_table": "._stats",
-    "presses_to_reach": "._stats",
-    "format_presses_to_reach": "._stats",
-    "plot_active_sampling": "._plotting",
-    "plot_uncertainty": "._plotting",
-    "plot_model_baselines": "._plotting",
-    "save_figures": "._plotting",
     "get_config": "._config",
     "check_config": "._config",
     "run_paper_protocol": "._protocol",

@@ -277,16 +277,17 @@ def run_active_sampling(
         ``drawn_objects`` (per query, the object of each press) and
         ``n_repeated_presses``; and provenance
         (``wall_time``, ``finished_at``, ``pid``, ``host``). See
-        :func:`comparison_table` and :func:`plot_active_sampling`.
+        :meth:`ExperimentResult.comparison_table` and
+        :meth:`ExperimentResult.plot_active_sampling`.
 
     Examples
     --------
     A tiny run (the real one uses the defaults)::
 
-        from sklearn_hardness.experiments import run_active_sampling, comparison_table
+        from sklearn_hardness.experiments import run_active_sampling
         res = run_active_sampling("silicone5", quick=True, n_jobs=2,
                                   results_path="runs.jsonl")
-        print(format_table(comparison_table(res)))
+        print(res.format_table(res.comparison_table()))
     """
     cfg, model = run_config(dataset, preset, model, n_runs, quick, config)
     strategies, names = check_strategies(strategies)

@@ -145,10 +145,10 @@ def run_model_baselines(
     --------
     A quick comparison of the named models on the simulator (minutes on 2 cores)::
 
-        from sklearn_hardness.experiments import baseline_table, format_table, run_model_baselines
+        from sklearn_hardness.experiments import run_model_baselines
 
         res = run_model_baselines("silicone5", models=("contact_profile", "convlstm"), quick=True, n_jobs=2)
-        print(format_table(baseline_table(res), mae_unit="mm/N"))
+        print(res.format_table(res.baseline_table(), mae_unit="mm/N"))
     """
     if cv is not None:
         if isinstance(models, str):
@@ -241,10 +241,10 @@ def run_dropout_sweep(
     --------
     Accuracy against the dropout rate of the ConvLSTM (the paper's Sec. III-E)::
 
-        from sklearn_hardness.experiments import baseline_table, format_table, run_dropout_sweep
+        from sklearn_hardness.experiments import run_dropout_sweep
 
         res = run_dropout_sweep("silicone5", dropouts=(0.1, 0.2, 0.5), quick=True, n_jobs=2)
-        print(format_table(baseline_table(res)))
+        print(res.format_table(res.baseline_table()))
     """
     n_train = _check_n(n_train_per_class, "n_train_per_class")
     n_test = _check_n(n_test_per_class, "n_test_per_class")

@@ -17,7 +17,8 @@ import numbers
 
 import numpy as np
 
-from ..models import chance_scaled_threshold, pipeline_info
+from ..models import pipeline_info
+from ..utils._chance_threshold import chance_scaled_threshold
 from ..utils._param_validation import FRAME_SIZE, Interval, StrOptions, validate_parameter_constraints
 from ._models import MODEL_NAMES, default_frame_size, describe_model, selects_frames
 from ._models import input_name as _input_name

@@ -29,8 +29,9 @@ from ..features import (
     LoadingCompliance,
     OpticalFlowFeatures,
 )
-from ..models import EarlyStoppingAfterFirstFit, make_named_pipeline, pipeline_info
+from ..models import make_named_pipeline, pipeline_info
 from ..utils._random import set_random_states
+from ._callbacks import EarlyStoppingAfterFirstFit
 from ._names import EXPERIMENT_MODELS
 
 MODEL_NAMES = EXPERIMENT_MODELS

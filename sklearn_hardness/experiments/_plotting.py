@@ -32,31 +32,7 @@ def _axes(ax):
 
 
 def plot_active_sampling(result, metric="accuracy", ax=None, band="std"):
-    """Mean of a per-iteration metric per strategy, with a +-1 std band (Figs. 5, 7).
-
-    Parameters
-    ----------
-    result : ExperimentResult
-        From :func:`run_active_sampling` (converged runs are used).
-    metric : {"accuracy", "mae", "entropy", "variance", "bald"}, default="accuracy"
-    ax : matplotlib Axes or None
-    band : {"std", "sem", None}, default="std"
-        Shaded band: standard deviation over runs (as the paper), standard
-        error of the mean, or none.
-
-    Returns
-    -------
-    ax : matplotlib Axes
-
-    Examples
-    --------
-    Needs matplotlib (``pip install "sklearn-hardness[plot]"``)::
-
-        from sklearn_hardness.experiments import plot_active_sampling, run_active_sampling
-
-        res = run_active_sampling("silicone5", quick=True, n_jobs=2)
-        plot_active_sampling(res, metric="accuracy").figure.savefig("accuracy.png")
-    """
+    """:meth:`ExperimentResult.plot_active_sampling` (documented there) of ``result``."""
     if metric not in _LABELS:
         raise ValueError(f"metric must be one of {list(_LABELS)}, got {metric!r}.")
     if band not in ("std", "sem", None):
@@ -90,16 +66,7 @@ def plot_active_sampling(result, metric="accuracy", ax=None, band="std"):
 
 
 def plot_uncertainty(result, kind="entropy", ax=None):
-    """Mean per-class entropy or variance on the test presses per iteration (Figs. 6, 8).
-
-    Examples
-    --------
-    Needs matplotlib::
-
-        from sklearn_hardness.experiments import plot_uncertainty
-
-        plot_uncertainty(res, kind="variance").figure.savefig("variance.png")  # res: run_active_sampling's
-    """
+    """:meth:`ExperimentResult.plot_uncertainty` (documented there) of ``result``."""
     return plot_active_sampling(result, metric=kind, ax=ax, band="std")
 
 
@@ -112,18 +79,7 @@ def _smooth(y, window):
 
 
 def plot_dropout_sweep(result, metric="accuracy", ax=None, smooth=5):
-    """Mean and std of a metric against the dropout rate, Savitzky-Golay smoothed (Fig. 4).
-
-    Parameters
-    ----------
-    result : ExperimentResult
-        From :func:`run_dropout_sweep`.
-    metric : {"accuracy", "mae"}, default="accuracy"
-    ax : matplotlib Axes or None
-    smooth : int or None, default=5
-        Window of :func:`scipy.signal.savgol_filter` (order 2) for the curves;
-        the raw means are drawn as dots. None: no smoothing.
-    """
+    """:meth:`ExperimentResult.plot_dropout_sweep` (documented there) of ``result``."""
     if metric not in ("accuracy", "mae"):
         raise ValueError(f"metric must be 'accuracy' or 'mae', got {metric!r}.")
     ax = _axes(ax)
@@ -147,16 +103,7 @@ def plot_dropout_sweep(result, metric="accuracy", ax=None, smooth=5):
 
 
 def plot_model_baselines(result, ax=None):
-    """Bar chart of train and test accuracy per model with std error bars (Fig. 3).
-
-    Examples
-    --------
-    Needs matplotlib::
-
-        from sklearn_hardness.experiments import plot_model_baselines, run_model_baselines
-
-        plot_model_baselines(run_model_baselines("silicone5", quick=True)).figure.savefig("baselines.png")
-    """
+    """:meth:`ExperimentResult.plot_model_baselines` (documented there) of ``result``."""
 
     ax = _axes(ax)
     rows = baseline_table(result)
@@ -175,20 +122,7 @@ def plot_model_baselines(result, ax=None):
 
 
 def save_figures(result, out_dir, prefix=""):
-    """Write the figures of a result as PNG files; return their paths.
-
-    Active sampling: ``accuracy.png``, ``mae.png``, ``entropy.png``,
-    ``variance.png``; baselines: ``baselines.png``; dropout sweep:
-    ``dropout_accuracy.png``, ``dropout_mae.png``.
-
-    Examples
-    --------
-    Needs matplotlib::
-
-        from sklearn_hardness.experiments import run_active_sampling, save_figures
-
-        paths = save_figures(run_active_sampling("silicone5", quick=True), "figures")
-    """
+    """:meth:`ExperimentResult.save_figures` (documented there) of ``result``."""
     Figure = import_optional("matplotlib.figure", "plot", "save_figures").Figure  # no pyplot: no display needed
 
     os.makedirs(out_dir, exist_ok=True)

@@ -18,8 +18,6 @@ import os
 
 from ._active import STRATEGIES, run_active_sampling
 from ._baselines import run_dropout_sweep, run_model_baselines
-from ._stats import format_paired_table, format_presses_to_reach, paired_table, presses_to_reach
-from ._tables import baseline_table, comparison_table, format_table
 
 __all__ = ["PAPER_PROTOCOL", "run_paper_protocol"]
 
@@ -105,17 +103,17 @@ def run_paper_protocol(out, *, strategies=STRATEGIES, n_runs=None, quick=False, 
             f"M={cfg['max_reservoir']} N={cfg['n_iterations']} MC={cfg['n_samples']} lr={cfg['lr']:g}, "
             f"{seeds} seeds x every test object" + (" [quick]" if quick else ""),
             f"-- model baselines ({cfg['n_initial']} presses per object, mean +- std over {seeds} seeds)",
-            format_table(baseline_table(base), mae_unit=unit),
+            base.format_table(base.baseline_table(), mae_unit=unit),
             f"-- dropout sweep ({model})",
-            format_table(baseline_table(sweep), mae_unit=unit),
+            sweep.format_table(sweep.baseline_table(), mae_unit=unit),
             "-- active sampling: accuracy on the test object's presses after N iterations (paper's Table I)",
-            format_table(comparison_table(active), mae_unit=unit),
+            active.format_table(active.comparison_table(), mae_unit=unit),
             f"-- active sampling, paired against random (converged pairs); holdout_*: {N_HOLDOUT} held-out "
             "presses of every reference object; auc: mean accuracy over iterations 0..N",
-            format_paired_table(paired_table(active)),
+            active.format_paired_table(active.paired_table()),
             "-- presses to reach random's final accuracy (mean test accuracy over the pairs; 95% bootstrap "
             "intervals over the pairs)",
-            format_presses_to_reach(presses_to_reach(active)),
+            active.format_presses_to_reach(active.presses_to_reach()),
             "",
         ]
     text = "\n".join(parts)

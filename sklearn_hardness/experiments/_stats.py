@@ -18,7 +18,7 @@ from ._tables import render_columns
 __all__ = ["paired_table", "format_paired_table", "PAIRED_METRICS", "decision_stop", "presses_to_reach",
            "format_presses_to_reach"]
 
-#: Metrics of :func:`paired_table`: (name, record field, reduction, higher is better),
+#: Metrics of :meth:`ExperimentResult.paired_table`: (name, record field, reduction, higher is better),
 #: in the order a robot user reads them: first the reference presses used and the
 #: test accuracy when :func:`decision_stop` (its defaults) ends the run
 #: (``presses_at_stop``, ``accuracy_at_stop``), then the accuracy on the test
@@ -149,39 +149,7 @@ def _p_values(d):
 
 
 def paired_table(result, reference="random", metrics=None, level=0.95):
-    """Per strategy and metric: mean with its interval, and the paired difference to ``reference``.
-
-    Parameters
-    ----------
-    result : ExperimentResult
-        From :func:`run_active_sampling`.
-    reference : str, default="random"
-        The strategy every other one is compared with.
-    metrics : sequence of str or None, default=None
-        Names from :data:`PAIRED_METRICS` (all whose field the records have, if None).
-    level : float, default=0.95
-        Confidence level of the t-intervals.
-
-    Returns
-    -------
-    rows : list of dict
-        ``strategy``, ``metric``, ``n`` (converged runs), ``mean``, ``ci_low``,
-        ``ci_high`` (t-interval of the mean over runs), and for strategies other
-        than the reference ``n_pairs`` (pairs where both runs converged),
-        ``diff`` (mean of strategy minus reference), ``diff_low``, ``diff_high``
-        (t-interval over pairs), ``p_ttest`` (paired t-test) and ``p_wilcoxon``
-        (Wilcoxon signed-rank; 1.0 when every difference is 0).
-
-    Examples
-    --------
-    >>> from sklearn_hardness.experiments import ExperimentResult, paired_table
-    >>> recs = [{"key": {"strategy": s, "test_class": 0, "seed": k}, "converged": True,
-    ...          "accuracy": [0.2, a], "mae": [0.1, 0.0]}
-    ...         for k in range(4) for s, a in (("random", 0.4 + 0.1 * k), ("variance", 0.6 + 0.1 * k))]
-    >>> row = [r for r in paired_table(ExperimentResult(recs)) if r["strategy"] == "variance"][0]
-    >>> round(row["diff"], 3), row["n_pairs"], row["p_ttest"] < 0.05
-    (0.2, 4, True)
-    """
+    """:meth:`ExperimentResult.paired_table` (documented there) of ``result``."""
     records = [r for r in result.records if r["key"].get("strategy") is not None]
     if not records:
         raise ValueError("the result has no active-sampling runs.")
@@ -226,20 +194,7 @@ def _f(x, pct):
 
 
 def format_paired_table(rows, reference="random"):
-    """Plain-text table of :func:`paired_table` rows (accuracies in %).
-
-    An interval over fewer than 5 runs or pairs is said in words
-    (``"3 pairs: too few for an interval"``).
-
-    Examples
-    --------
-    ::
-
-        from sklearn_hardness.experiments import format_paired_table, paired_table, run_active_sampling
-
-        res = run_active_sampling("silicone5", strategies=("thompson", "random"), quick=True, n_jobs=2)
-        print(format_paired_table(paired_table(res, reference="random")))
-    """
+    """:meth:`ExperimentResult.format_paired_table` (documented there) of ``result``."""
     head = ["strategy", "metric", "n", "mean [95% CI]", f"- {reference} [95% CI]", "p (t)", "p (Wilcoxon)"]
     lines = []
     for r in rows:
@@ -274,54 +229,7 @@ def _curves(records, field="accuracy"):
 
 
 def presses_to_reach(result, reference="random", *, n_boot=2000, level=0.95, random_state=0):
-    """Reference presses each strategy needs to reach the reference's final accuracy.
-
-    The paper always presses ``n_initial + N * n_per_query`` reference
-    objects. A strategy whose mean accuracy on the test presses (over the
-    paired runs) reaches the reference strategy's mean *final* accuracy after
-    fewer iterations gets there with fewer presses. Intervals come from a
-    bootstrap over the (test object, seed) pairs, resampling the strategy's
-    runs and the reference's runs of the same pairs together.
-
-    Parameters
-    ----------
-    result : ExperimentResult
-        From :func:`run_active_sampling`, with ``random`` (or ``reference``).
-    reference : str, default="random"
-        Whose final accuracy is the target.
-    n_boot : int, default=2000
-        Bootstrap resamples of the pairs.
-    level : float, default=0.95
-        Level of the percentile intervals.
-    random_state : int, default=0
-        Seed of the bootstrap.
-
-    Returns
-    -------
-    rows : list of dict
-        One per strategy (the reference too): ``strategy``, ``n_pairs``
-        (pairs where both runs converged), ``target`` (the reference's mean
-        final accuracy over those pairs), ``curve`` (mean accuracy after each
-        iteration), ``presses`` (after each iteration), ``presses_to_reach``
-        (the first press count whose mean accuracy is at least ``target``;
-        inf if it never does), ``ci_low``, ``ci_high`` (bootstrap percentiles;
-        inf when the strategy did not reach the target in more than
-        ``(1 - level) / 2`` of the resamples), ``p_reached`` (fraction of
-        resamples in which it reached the target), and for strategies other
-        than the reference ``diff``, ``diff_low``, ``diff_high`` (presses minus
-        the reference's own presses to reach its final accuracy, over the same
-        resamples; below 0: fewer presses).
-
-    Examples
-    --------
-    >>> from sklearn_hardness.experiments import ExperimentResult, presses_to_reach
-    >>> recs = [{"key": {"strategy": s, "test_class": 0, "seed": k}, "converged": True,
-    ...          "initial_indices": [0] * 10, "drawn_indices": [[0] * 5] * 2, "accuracy": acc}
-    ...         for k in range(6) for s, acc in (("random", [0.2, 0.4, 0.8]), ("variance", [0.2, 0.8, 0.8]))]
-    >>> rows = presses_to_reach(ExperimentResult(recs), n_boot=200)
-    >>> [(r["strategy"], float(r["presses_to_reach"])) for r in rows]
-    [('random', 20.0), ('variance', 15.0)]
-    """
+    """:meth:`ExperimentResult.presses_to_reach` (documented there) of ``result``."""
     if not 0 < level < 1:
         raise ValueError(f"level must be in (0, 1), got {level!r}.")
     if int(n_boot) != n_boot or n_boot < 1:
@@ -377,16 +285,7 @@ def presses_to_reach(result, reference="random", *, n_boot=2000, level=0.95, ran
 
 
 def format_presses_to_reach(rows, reference="random"):
-    """Plain-text table of :func:`presses_to_reach` rows.
-
-    Examples
-    --------
-    ::
-
-        from sklearn_hardness.experiments import format_presses_to_reach, presses_to_reach
-
-        print(format_presses_to_reach(presses_to_reach(res, reference="random")))  # res: run_active_sampling's
-    """
+    """:meth:`ExperimentResult.format_presses_to_reach` (documented there) of ``result``."""
     def num(x):
         return "n/a" if x is None or np.isnan(x) else ("never" if np.isinf(x) else f"{x:g}")
 

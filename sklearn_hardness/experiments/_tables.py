@@ -22,37 +22,7 @@ def _mean_std(values):
 
 
 def comparison_table(result, iteration=-1, human=True):
-    """Rows of the paper's Table I: no resampling, each strategy, humans (paper).
-
-    Parameters
-    ----------
-    result : ExperimentResult
-        From :func:`run_active_sampling`.
-    iteration : int, default=-1
-        Which iteration the strategies are compared at (-1: the last, N).
-    human : bool, default=True
-        Add the paper's human accuracy (48.00% +- 22.27%) as a reference row.
-
-    Returns
-    -------
-    rows : list of dict
-        ``name``, ``accuracy_mean``, ``accuracy_std``, ``mae_mean``,
-        ``mae_std``, ``n_runs`` (converged runs used), ``n_total`` and
-        ``converged_fraction``; accuracy as a fraction. "no resampling" is
-        iteration 0 (after the initial training) of the converged runs, once
-        per (test object, seed), as the initial training is shared by the
-        strategies.
-
-    Examples
-    --------
-    ::
-
-        from sklearn_hardness.experiments import comparison_table, format_table, run_active_sampling
-
-        res = run_active_sampling("silicone5", quick=True, n_jobs=2)
-        rows = comparison_table(res)            # a list of dicts: pandas.DataFrame(rows) takes it
-        print(format_table(rows, mae_unit="mm/N"))
-    """
+    """:meth:`ExperimentResult.comparison_table` (documented there) of ``result``."""
     rows = []
     records = [r for r in result.records if r["key"].get("experiment") == "active_sampling"]
     if not records:
@@ -85,17 +55,7 @@ def comparison_table(result, iteration=-1, human=True):
 
 
 def baseline_table(result):
-    """Rows per model (baselines) or per dropout rate (sweep): mean +- std of the metrics.
-
-    Examples
-    --------
-    ::
-
-        from sklearn_hardness.experiments import baseline_table, format_table, run_model_baselines
-
-        rows = baseline_table(run_model_baselines("silicone5", quick=True))
-        print(format_table(rows, mae_unit="mm/N"))
-    """
+    """:meth:`ExperimentResult.baseline_table` (documented there) of ``result``."""
     key = "model" if any(r["key"].get("experiment") == "model_baselines" for r in result.records) else "dropout"
     groups = {}
     for r in result.records:
@@ -121,17 +81,7 @@ def _num(m, s):
 
 
 def format_table(rows, mae_unit=None):
-    """Plain-text table of :func:`comparison_table` or :func:`baseline_table` rows.
-
-    Examples
-    --------
-    >>> from sklearn_hardness.experiments import format_table
-    >>> print(format_table([{"name": "random", "accuracy_mean": 0.8, "accuracy_std": 0.1, "mae_mean": 0.05,
-    ...                      "mae_std": 0.02, "n_runs": 4, "n_total": 5, "converged_fraction": 0.8}]))
-            accuracy           MAE             runs  converged
-    ------  -----------------  --------------  ----  ---------
-    random   80.00% +- 10.00%  0.050 +- 0.020  4/5   80%
-    """
+    """:meth:`ExperimentResult.format_table` (documented there) of ``result``."""
     mae_head = "MAE" + (f" ({mae_unit})" if mae_unit else "")
     has_train = any("train_accuracy_mean" in r for r in rows)
     head = ["", "accuracy"] + (["train accuracy"] if has_train else []) + [mae_head, "runs", "converged"]

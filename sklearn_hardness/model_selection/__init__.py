@@ -8,16 +8,15 @@
 * :class:`RepeatedStratifiedGroupKFold`: the folds an integer ``cv`` stands for.
 * :func:`corrected_interval`: the t-interval of fold scores (or of a paired
   difference) corrected for the folds' overlapping training sets.
-* :func:`format_evaluation`, :class:`ConfusionMatricesDisplay`: the result as
-  text and as a figure.
+* :class:`ConfusionMatricesDisplay`: the result as a figure (``print(result)``
+  writes it as text).
 """
 
 from ._intervals import corrected_interval
 from ._plot import ConfusionMatricesDisplay
-from ._report import format_evaluation
 from ._result import EvaluationResult
 from ._split import RepeatedStratifiedGroupKFold
 from ._validation import evaluate_pipelines
 
 __all__ = ["evaluate_pipelines", "EvaluationResult", "RepeatedStratifiedGroupKFold", "corrected_interval",
-           "format_evaluation", "ConfusionMatricesDisplay"]
+           "ConfusionMatricesDisplay"]

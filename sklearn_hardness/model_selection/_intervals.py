@@ -76,7 +76,7 @@ def corrected_interval(scores, test_train_ratio=0.0, *, baseline=None, df=None, 
         ``(nan, nan)`` with fewer than two finite values: one fold carries
         no interval. With fewer than ``MIN_VALUES_FOR_INTERVAL`` (5) degrees
         of freedom + 1 the interval is computed but the reports
-        (:func:`format_evaluation`, ``str(result)``) print words instead.
+        (``str(result)`` of an :class:`EvaluationResult`) print words instead.
 
     Examples
     --------

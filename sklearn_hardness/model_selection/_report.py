@@ -109,36 +109,18 @@ def recommend(result, summary=None):
 
 
 def format_evaluation(result):
-    """The result of :func:`evaluate_pipelines` as text.
-
-    Parameters
-    ----------
-    result : EvaluationResult
-        What :func:`evaluate_pipelines` returned.
-
-    Returns
-    -------
-    text : str
-        One line per pipeline: balanced accuracy (or the primary score) with
-        its 95% interval over folds, hardness MAE, time, and the margin over
-        the one-number baseline; then the balanced accuracy and margin per
-        object (where some object has several presses), any other score,
-        each pipeline's recall per class, the notes on the presses
-        (``notes``: contact found, the optical flow's corners, loading
-        phases missing) and the recommendation. With fewer than 5 folds a
-        repetition, the intervals are said in words (``"3 folds: too few
-        for an interval"``) instead.
+    """``str(result)`` of an :class:`EvaluationResult` (documented there).
 
     Examples
     --------
     >>> from sklearn.model_selection import GroupKFold
     >>> from sklearn_hardness.datasets import make_presses
-    >>> from sklearn_hardness.model_selection import evaluate_pipelines, format_evaluation
+    >>> from sklearn_hardness.model_selection import evaluate_pipelines
     >>> data = make_presses("everyday", n_per_class=2, n_objects=9, class_ratio=[1, 1, 1],
     ...                     image_size=(32, 40), codec=None, random_state=0)
     >>> result = evaluate_pipelines([], data.videos, data.target, groups=data.object_id,
     ...                             cv=GroupKFold(3), target_names=data.target_names)
-    >>> print(format_evaluation(result).splitlines()[0][:45])
+    >>> print(str(result).splitlines()[0][:45])
     object-disjoint 3-fold CV, 9 objects, 18 pres
     """
     summary = summarize(result)

@@ -16,7 +16,13 @@ class EvaluationResult:
     Everything else is derived from it: :attr:`summary` (one row per
     pipeline: means, intervals, margins over the baseline),
     :attr:`recommended`, :meth:`confusion_matrix`, ``str(result)`` (the text
-    of :func:`~sklearn_hardness.model_selection.format_evaluation`), and
+    ``print(result)`` writes: one line per pipeline, its balanced accuracy, or
+    primary score, with its 95% interval over folds, hardness MAE, time and
+    the margin over the one-number baseline; then the balanced accuracy and
+    margin per object where some object has several presses, any other
+    score, each pipeline's recall per class, the notes on the presses and the
+    recommendation; with fewer than 5 folds a repetition the intervals are
+    said in words, ``"3 folds: too few for an interval"``), and
     :meth:`ConfusionMatricesDisplay.from_result
     <sklearn_hardness.model_selection.ConfusionMatricesDisplay.from_result>`
     draws it.

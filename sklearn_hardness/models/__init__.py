@@ -24,10 +24,9 @@
   step's ``predict_proba_samples``.
 
 The nets have ``predict_proba_samples(X, n_samples, random_state)`` for
-batched MC-dropout samples, :func:`is_converged` implements the paper's
-convergence rule (:func:`chance_scaled_threshold` carries its threshold over to
-other numbers of classes), and :class:`EarlyStoppingAfterFirstFit` is skorch's
-early stopping on every training call but the first (a callback: ``callbacks=``).
+batched MC-dropout samples, and :func:`is_converged` implements the paper's
+convergence rule (``threshold="chance"`` carries its threshold over to other
+numbers of classes).
 
 The names of the table of named pipelines import nothing beyond the standard
 library; the others (the nets, torch) are imported when first asked for, so
@@ -59,8 +58,6 @@ _LAZY = {
     "EnsembleClassifier": "._ensemble",
     "LaplaceLogisticRegression": "._laplace",
     "is_converged": "._convergence",
-    "chance_scaled_threshold": "._convergence",
-    "EarlyStoppingAfterFirstFit": "._callbacks",
 }
 
 __all__ = ["pipeline_names", "pipeline_info", "make_named_pipeline", *_LAZY]

@@ -19,7 +19,7 @@ import _harness  # noqa: F401 - puts the repository root on sys.path
 
 from harness.memory import peak_rss_mb
 from harness.smoke import add_smoke_argument, parse_args, tiny_presses
-from sklearn_hardness.experiments import baseline_table, run_model_baselines
+from sklearn_hardness.experiments import run_model_baselines
 
 PAPER = {"convlstm": "42%", "dinov2nn": "38%", "ofnn": "27%"}
 
@@ -63,7 +63,7 @@ def main(argv=None):
         )
         dt = time.perf_counter() - t0
         rss = peak_rss_mb()  # over the process's life: the runs so far
-        row = baseline_table(result)[0]
+        row = result.baseline_table()[0]
         label = name + (f" {extra['frame_size'][0]}x{extra['frame_size'][1]}" if extra else "")
         acc = f"{100 * row['accuracy_mean']:.1f}% +- {100 * row['accuracy_std']:.1f}%"
         mae = f"{row['mae_mean']:.3f} +- {row['mae_std']:.3f}"

@@ -2,7 +2,7 @@
 
 The paired standard deviation of the test-object accuracy difference (thompson minus
 random, percentage points) is backed out of the 95% paired t-intervals of the committed
-tables in ``studies/outputs`` (``experiments.paired_table``: half-width = t(0.975, n-1) * s / sqrt(n)),
+tables in ``studies/outputs`` (``experiments.ExperimentResult.paired_table``: half-width = t(0.975, n-1) * s / sqrt(n)),
 pooled over the silicone5 runs, and fed into the exact power of a two-sided paired t-test
 (noncentral t). The plan is ``studies/preregistration/thompson_vs_random.md``.
 

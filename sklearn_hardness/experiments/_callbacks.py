@@ -1,4 +1,4 @@
-"""skorch callbacks of the nets."""
+"""skorch callbacks of the experiments' nets."""
 
 from __future__ import annotations
 
@@ -32,7 +32,7 @@ class EarlyStoppingAfterFirstFit(EarlyStopping):
     Examples
     --------
     >>> from sklearn_hardness.models import OFNNClassifier
-    >>> from sklearn_hardness.models._callbacks import EarlyStoppingAfterFirstFit
+    >>> from sklearn_hardness.experiments._callbacks import EarlyStoppingAfterFirstFit
     >>> net = OFNNClassifier(max_epochs=50, callbacks=[
     ...     ("early_stopping", EarlyStoppingAfterFirstFit(monitor="train_loss", patience=3))])
     """
