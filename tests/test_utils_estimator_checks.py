@@ -1,5 +1,6 @@
 """The public checks pass good estimators and catch the faults they are named after."""
 
+import pathlib
 from numbers import Integral, Real
 
 import numpy as np
@@ -136,6 +137,18 @@ def _with_fault(fault):
 def test_the_parameter_check_passes_a_good_estimator():
     X, y = _frames()
     check_param_validation("_Thresholder", _Thresholder(), X, y)
+
+
+def test_the_parameter_check_writes_nothing_where_it_runs(tmp_path, monkeypatch):
+    # memory's valid string is "": a joblib cache folder in the working directory, were the check
+    # not run in a temporary one (CI's clone got a joblib/ folder, which then changed ruff's imports)
+    from sklearn_hardness.preprocessing import ContactFrameSelector
+
+    monkeypatch.chdir(tmp_path)
+    videos = [np.random.default_rng(i).integers(0, 255, (8, 24, 32, 3), dtype=np.uint8) for i in range(4)]
+    check_param_validation("ContactFrameSelector", ContactFrameSelector(n_between=1, frame_size=(12, 16)),
+                           videos, None)
+    assert list(tmp_path.iterdir()) == [] and pathlib.Path.cwd() == tmp_path
 
 
 @pytest.mark.parametrize("fault, message", [

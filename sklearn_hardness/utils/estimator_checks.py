@@ -37,8 +37,11 @@ validate their parameters with this package's ``_parameter_constraints``.
 
 from __future__ import annotations
 
+import contextlib
+import os
 import pickle
 import re
+import tempfile
 import warnings
 from numbers import Integral, Real
 
@@ -374,6 +377,18 @@ def _parameter_error_message(param, caller):
     return re.compile(rf"The {param!r} parameter of {re.escape(caller)} must be .* Got .* instead\.", re.S)
 
 
+@contextlib.contextmanager
+def _in_temporary_directory():
+    """Run in a fresh working directory, removed afterwards (``contextlib.chdir`` is Python 3.11+)."""
+    here = os.getcwd()
+    with tempfile.TemporaryDirectory() as folder:
+        os.chdir(folder)
+        try:
+            yield folder
+        finally:
+            os.chdir(here)
+
+
 def check_param_validation(name, estimator, X, y, *, methods=None):
     """Each constrained parameter rejects an invalid value with an error naming it, and takes a valid one.
 
@@ -395,6 +410,10 @@ def check_param_validation(name, estimator, X, y, *, methods=None):
        first method of ``methods`` raises no ``InvalidParameterError``
        (another error may still come: a valid value need not suit the data,
        e.g. ``classes`` that ``y`` does not hold).
+
+    The calls run in a temporary working directory: a valid string can be a
+    path (``memory=""`` is a cache folder where the check is called), and
+    nothing is left behind.
 
     Parameters
     ----------
@@ -446,7 +465,7 @@ def check_param_validation(name, estimator, X, y, *, methods=None):
         f"{unexpected}, parameters without constraints {missing}.")
 
     def call(est, method):
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), _in_temporary_directory():
             warnings.simplefilter("ignore")
             return getattr(est, method)(X, y)
 
