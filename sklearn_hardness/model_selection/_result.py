@@ -10,7 +10,7 @@ __all__ = ["EvaluationResult"]
 class EvaluationResult:
     """The result of :func:`~sklearn_hardness.model_selection.evaluate_pipelines`.
 
-    One format: :attr:`cv_results_`, a dict of arrays with one entry per
+    One format: ``cv_results_``, a dict of arrays with one entry per
     (pipeline, fold), as :func:`sklearn.model_selection.cross_validate`
     gives for one estimator, that :class:`pandas.DataFrame` takes as is.
     Everything else is derived from it: :attr:`summary` (one row per
@@ -97,7 +97,7 @@ class EvaluationResult:
 
     @property
     def pipelines(self):
-        """The names of the pipelines, in :attr:`cv_results_`' order (the baseline first)."""
+        """The names of the pipelines, in ``cv_results_``' order (the baseline first)."""
         return list(dict.fromkeys(self.cv_results_["pipeline"].tolist()))
 
     @property
@@ -107,8 +107,8 @@ class EvaluationResult:
 
     @property
     def summary(self):
-        """One row per pipeline, derived from :attr:`cv_results_` (a dict of columns, for
-        :class:`pandas.DataFrame` too): see :func:`~sklearn_hardness.model_selection._report.summarize`.
+        """One row per pipeline, derived from ``cv_results_`` (a dict of columns, for
+        :class:`pandas.DataFrame` too).
 
         Columns: ``pipeline``; for each score ``NAME``: ``NAME`` (mean over
         folds), ``NAME_low`` and ``NAME_high`` (its 95% interval corrected

@@ -182,7 +182,7 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
         Members trained in parallel (:class:`joblib.Parallel`); not used
         when they train stacked.
     stacked : {"auto"} or bool, default="auto"
-        Train the members as one :class:`StackedConvLSTMNet` (every step of
+        Train the members as one stacked module (every step of
         every member in one batched call) instead of one after another.
         Possible when ``estimator`` is a :class:`ConvLSTMClassifier` with its
         default module, criterion and iterator, an element-wise optimiser
@@ -220,7 +220,7 @@ class EnsembleClassifier(ClassifierMixin, BaseEstimator):
     member's own batches; without dropout it gives the members of separate
     training to float tolerance (``tests/test_models_ensemble.py``). With
     dropout the masks come from one seeded stream split between the members
-    (:class:`StackedConvLSTMNet`), so the members are distributed as, but not
+    (one stacked module), so the members are distributed as, but not
     equal to, separately trained ones.
 
     Examples

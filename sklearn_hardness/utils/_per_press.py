@@ -59,14 +59,15 @@ class PerPressTransformerMixin(TransformerMixin):
     the ``memory`` cache and the experiments read (nested in a
     :class:`~sklearn.pipeline.FeatureUnion` or a
     :class:`~sklearn.pipeline.Pipeline` too). A subclass computes the rows of
-    a batch of presses in :meth:`_transform_presses` and gets them in its
-    ``transform`` from :func:`transform_presses`, which reads and writes the
-    cache of its ``memory`` parameter where it has one.
+    a batch of presses in its method ``_transform_presses(X)``; the mixin's
+    :meth:`transform` calls it for the presses that the step's ``memory``
+    cache (where it has such a parameter) does not hold yet, and reads and
+    writes that cache.
 
     ``fit_transform`` keeps what the step found on each press (its
     ``info``) for :func:`~sklearn_hardness.model_selection.evaluate_pipelines`'
     notes; a step that finds something implements
-    :meth:`_transform_and_info`.
+    ``_transform_and_info(videos)``.
 
     Class attributes
     ----------------
@@ -87,14 +88,11 @@ class PerPressTransformerMixin(TransformerMixin):
     >>> import numpy as np
     >>> from sklearn.base import BaseEstimator
     >>> from sklearn_hardness.utils import PerPressTransformerMixin
-    >>> from sklearn_hardness.utils._per_press import transform_presses
     >>> class PeakBrightness(PerPressTransformerMixin, BaseEstimator):
     ...     def __init__(self, memory=None):
     ...         self.memory = memory
     ...     def fit(self, X, y=None):
     ...         return self
-    ...     def transform(self, X):
-    ...         return transform_presses(self, X)[0]
     ...     def _transform_presses(self, X):
     ...         return np.array([[float(np.max(v))] for v in X]), {}
     >>> videos = [np.full((3, 8, 8, 3), k, np.uint8) for k in (10, 200)]
@@ -104,6 +102,20 @@ class PerPressTransformerMixin(TransformerMixin):
 
     _per_press_input = "videos"
     _per_press_ignored = ("memory", "n_jobs")
+
+    def transform(self, X):
+        """Each press's row: from the ``memory`` cache, or computed by ``_transform_presses``.
+
+        Parameters
+        ----------
+        X : sequence of presses
+
+        Returns
+        -------
+        Xt : ndarray
+            One row (or entry) per press, in the order of ``X``.
+        """
+        return transform_presses(self, X)[0]
 
     def fit_transform(self, X, y=None, **fit_params):
         """Fit to ``X``, then transform it: each press's row, as :meth:`transform` gives it.
@@ -124,7 +136,7 @@ class PerPressTransformerMixin(TransformerMixin):
         return Xt
 
     def _transform_and_info(self, X):
-        """``(transform(X), info)``: with what the step found on each press (see :meth:`_transform_presses`)."""
+        """``(transform(X), info)``: with what the step found on each press (see ``_transform_presses``)."""
         return self.transform(X), {}
 
     def _transform_presses(self, X):
