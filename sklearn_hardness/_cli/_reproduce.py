@@ -224,7 +224,7 @@ def _run_reproduce(args):
         # wants first: presses to reach random's accuracy, then presses and accuracy at the stop
         paired = result.format_presses_to_reach(result.presses_to_reach()) + (
             "\nPresses to reach random's final accuracy: the first press count at which a strategy's mean "
-            "test accuracy over the pairs is at least random's mean final accuracy (experiments."
+            "test accuracy over the pairs is at least random's mean final accuracy (ExperimentResult."
             "presses_to_reach; 95% bootstrap intervals over the pairs; never: not within the budget)."
         ) + "\n\n" + result.format_paired_table(result.paired_table()) + (
             "\nConverged runs; differences and p-values over the pairs where both runs converged. "

@@ -387,8 +387,9 @@ class ExperimentResult:
             The strategy every other one is compared with.
         metrics : sequence of str or None, default=None
             Among ``"presses_at_stop"``, ``"accuracy_at_stop"`` (the reference
-            presses used, and the test accuracy, when the decision rule
-            ``accuracy >= 0.8`` twice in a row ends the run), ``"accuracy"``,
+            presses used, and the test accuracy, when the run's decision is
+            settled: at least 80% of the test presses voting for the same class
+            for 2 iterations), ``"accuracy"``,
             ``"holdout_accuracy"`` (after the press budget, on the test
             object's presses and on held-out presses of the other objects),
             ``"auc"`` (the mean accuracy over iterations 0..N, in [0, 1]: a
