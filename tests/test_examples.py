@@ -10,6 +10,8 @@ from pathlib import Path
 import matplotlib
 import pytest
 
+from ._smaller import smaller
+
 EXAMPLES = sorted((Path(__file__).resolve().parents[1] / "examples").glob("plot_*.py"))
 
 #: What the test shrinks in each example, as README's test does (tests/test_readme_example.py); each text
@@ -65,11 +67,7 @@ SMALLER = {
 
 def smaller_source(path):
     """The example's source with :data:`SMALLER`'s replacements made."""
-    code = path.read_text()
-    for old, new in SMALLER.get(path.name, {}).items():
-        assert old in code, f"{path.name} no longer contains {old!r}: update tests/test_examples.py"
-        code = code.replace(old, new)
-    return code
+    return smaller(path.read_text(), SMALLER.get(path.name, {}), f"{path.name} (tests/test_examples.py)")
 
 
 @pytest.mark.slow
